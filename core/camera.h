@@ -1,0 +1,69 @@
+#pragma once
+// Pinhole camera with the conventions of Zheng et al. 1999 §1.1: eye E,
+// orthonormal U (right), V (up), W (view direction), vertical fov α, M×N pixels,
+// near/far planes. Image coordinates (u, v) are continuous pixels, u to the
+// right from the left edge, v down from the top edge; pixel (i, j) has its
+// centre at (i + 0.5, j + 0.5). All maths in double (DESIGN.md "Camera").
+#include <glm/glm.hpp>
+
+namespace hw {
+
+// How the depth attachment stores depth. All three are mapped to the same
+// z' scale (eq. 2) before any threshold is applied.
+enum class DepthMode { Fixed24, Float32, Float32Reversed };
+const char* depthModeName(DepthMode m);
+bool parseDepthMode(const char* s, DepthMode* out);
+
+// z' scale: a 24-bit depth buffer stores window depth × (2^24 − 1). Eq. (2)
+// writes 2^24; the two differ by at most one unit.
+constexpr double kZPrimeScale = 16777215.0;
+
+// Eq. (2): z' = S · f/(f−n) · (1 − n/z), z = eye-space distance along W.
+double zPrimeFromEyeZ(double zEye, double nearPlane, double farPlane);
+// Inverse of eq. (2). z' at or past S·f/(f−n) (infinity) returns +inf.
+double eyeZFromZPrime(double zPrime, double nearPlane, double farPlane);
+
+struct ProjectedPoint {
+  double u = 0, v = 0;  // image coordinates, pixels
+  double zEye = 0;      // distance along W (negative: behind the eye)
+};
+
+struct Camera {
+  glm::dvec3 eye{0.0};
+  glm::dvec3 right{1, 0, 0};     // U
+  glm::dvec3 up{0, 1, 0};        // V
+  glm::dvec3 forward{0, 0, -1};  // W
+  double fovYRadians = 1.0471975511965976;  // 60°
+  int width = 512;
+  int height = 512;
+  double nearPlane = 0.1;
+  double farPlane = 1000.0;
+
+  // Builds U, V, W from a target point and an up hint. Precondition: target
+  // differs from eye and is not along upHint (checked).
+  static Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& upHint,
+                       double fovYRadians, int width, int height, double nearPlane,
+                       double farPlane);
+
+  double fy() const;  // focal length in pixels; square pixels, so fx == fy
+  double fx() const { return fy(); }
+  double cx() const { return 0.5 * width; }
+  double cy() const { return 0.5 * height; }
+
+  // World point seen at image position (u, v) at eye-space depth zEye: the
+  // paper's V = H_E P.
+  glm::dvec3 unproject(double u, double v, double zEye) const;
+  ProjectedPoint project(const glm::dvec3& world) const;
+
+  // GL matrices. viewMatrix: world → GL eye space (−Z forward). The
+  // projection follows `mode`: standard OpenGL [−1, 1] for Fixed24/Float32,
+  // and 1 → 0 with glClipControl(ZERO_TO_ONE) for Float32Reversed.
+  // infiniteFar puts the far plane at infinity (standard modes only).
+  glm::dmat4 viewMatrix() const;
+  glm::dmat4 projectionMatrix(DepthMode mode, bool infiniteFar = false) const;
+
+  // Camera pose with OpenCV axes (x right, y down, z forward), for export.
+  glm::dmat4 worldFromCameraOpenCv() const;
+};
+
+}  // namespace hw

@@ -1,0 +1,101 @@
+#include "core/file_io.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_FAILURE_USERMSG
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+namespace hw {
+
+Status writeFileAtomic(const std::string& path, std::string_view bytes) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return makeError("cannot write " + path + ": " + std::strerror(errno));
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const int werr = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!wrote || !closed) {
+    std::remove(tmp.c_str());
+    return makeError("cannot write " + path + ": " + std::strerror(wrote ? errno : werr));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    return makeError("cannot rename " + tmp + " to " + path + ": " + std::strerror(e));
+  }
+  return {};
+}
+
+Result<std::string> readFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return makeError(path + ": is a directory, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError("cannot open " + path + ": " + std::strerror(errno));
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) return makeError("cannot read " + path);
+  return s.str();
+}
+
+static void appendBytes(void* ctx, void* data, int size) {
+  static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<size_t>(size));
+}
+
+Status writePng(const std::string& path, const Image<Rgba8>& image) {
+  if (image.empty()) return makeError("cannot write " + path + ": image is empty");
+  std::string bytes;
+  if (!stbi_write_png_to_func(appendBytes, &bytes, image.width(), image.height(), 4, image.data(),
+                              image.width() * 4))
+    return makeError("cannot encode PNG " + path);
+  return writeFileAtomic(path, bytes);
+}
+
+Status writePngGray(const std::string& path, const Image<float>& image, float lo, float hi) {
+  Image<Rgba8> out(image.width(), image.height());
+  const float scale = hi > lo ? 255.0f / (hi - lo) : 0.0f;
+  for (size_t i = 0; i < image.size(); ++i) {
+    float v = image.data()[i];
+    float t = std::isfinite(v) ? std::clamp((v - lo) * scale, 0.0f, 255.0f) : 255.0f;
+    auto g = static_cast<std::uint8_t>(t + 0.5f);
+    out.data()[i] = Rgba8{g, g, g, 255};
+  }
+  return writePng(path, out);
+}
+
+Result<Image<Rgba8>> readPng(const std::string& path) {
+  auto bytes = readFile(path);
+  if (!bytes) return bytes.error();
+  int w = 0, h = 0, comp = 0;
+  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
+                                      static_cast<int>(bytes->size()), &w, &h, &comp, 4);
+  if (!px) return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
+  Image<Rgba8> img(w, h);
+  std::memcpy(img.data(), px, static_cast<size_t>(w) * h * 4);
+  stbi_image_free(px);
+  return img;
+}
+
+Status ensureWritableDir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return makeError("cannot create output directory " + dir + ": " + ec.message());
+  if (!std::filesystem::is_directory(dir, ec))
+    return makeError("output path " + dir + " exists and is not a directory");
+  if (::access(dir.c_str(), W_OK) != 0)
+    return makeError("output directory " + dir + " is not writable: " + std::strerror(errno));
+  return {};
+}
+
+}  // namespace hw

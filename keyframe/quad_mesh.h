@@ -1,0 +1,45 @@
+#pragma once
+// QuadMesh: the level-of-detail model of one keyframe (Zheng et al. 1999 §1.2):
+// one spatial quad per leaf rectangle of the binary subdivision.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace hw::keyframe {
+
+// Pixel rectangle [x0, x1) × [y0, y1) in keyframe image coordinates (row 0 = top).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+  long long area() const { return static_cast<long long>(width()) * height(); }
+};
+
+struct Quad {
+  PixelRect rect;
+  // Corners at the rectangle's OUTER pixel edges (the paper's half-pixel
+  // expansion), in order top-left (x0,y0), top-right (x1,y0), bottom-right
+  // (x1,y1), bottom-left (x0,y1) of the image.
+  std::array<glm::dvec3, 4> world;  // world-space corners
+  std::array<glm::dvec2, 4> pixel;  // keyframe image coordinates (u, v) of the corners
+  std::array<double, 4> eyeZ;       // corner depth along the keyframe's W (> 0, finite)
+  float maxDelta = 0.0f;            // max |Δ²| over the leaf (z' units)
+};
+
+struct QuadMeshStats {
+  int quads = 0;
+  int onePixelLeaves = 0;
+  long long emptyPixels = 0;
+  int clampedCorners = 0;  // corners whose fitted z' was clamped (near the horizon)
+  double deltaMs = 0, subdivideMs = 0, cornersMs = 0;
+};
+
+struct QuadMesh {
+  int width = 0, height = 0;  // keyframe resolution
+  std::vector<Quad> quads;
+  QuadMeshStats stats;
+};
+
+}  // namespace hw::keyframe

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hybridwalk needs (only those missing).
+# Run as root on Debian 12. Idempotent.
+set -euo pipefail
+pkgs=(
+  build-essential cmake ninja-build pkg-config git
+  libosmesa6-dev libgl-dev mesa-common-dev libglfw3-dev libglm-dev libassimp-dev
+  libstb-dev libcli11-dev nlohmann-json3-dev libzip-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  xvfb xauth clang libclang-rt-14-dev
+)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#pkgs[@]} packages present"
+  exit 0
+fi
+echo "setup: installing ${#missing[@]} missing packages: ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup: need root to install packages (run as root, or install: ${missing[*]})" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"

@@ -1,0 +1,16 @@
+#pragma once
+// Layer: one keyframe's quad mesh warped to the current camera (Zheng et al.
+// 1999 §2.1): colour, which pixels it covers, and their depth there.
+#include <cstdint>
+
+#include "core/image.h"
+
+namespace hw::warp {
+
+struct Layer {
+  Image<Rgba8> colour;          // row 0 = top
+  Image<std::uint8_t> coverage; // 1 where a quad covers the pixel
+  Image<float> eyeZ;            // distance along the current camera's W; 0 where not covered
+};
+
+}  // namespace hw::warp
