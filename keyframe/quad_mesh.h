@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "keyframe/delta_buffer.h"
+
 namespace hw::keyframe {
 
 // Pixel rectangle [x0, x1) × [y0, y1) in keyframe image coordinates (row 0 = top).
@@ -34,6 +36,10 @@ struct QuadMeshStats {
   long long emptyPixels = 0;
   int clampedCorners = 0;  // corners whose fitted z' was clamped (near the horizon)
   double deltaMs = 0, subdivideMs = 0, cornersMs = 0;
+  // Which test the build used (DESIGN.md: "report which one a run used").
+  DeltaCriterion criterion = DeltaCriterion::FivePoint;
+  double tauZPrime = 0;      // threshold applied to |Δ²z'| (z' units)
+  double tauParallaxPx = 0;  // > 0: tauZPrime was derived from this parallax bound
 };
 
 struct QuadMesh {

@@ -1,0 +1,46 @@
+#pragma once
+// One OpenGL 4.5 core context interface, two implementations: OSMesa
+// (headless, llvmpipe; the default everywhere) and a GLFW window. Creating
+// one loads the GL entry-point table (gl_api.h) from it. No GL headers here.
+#include <memory>
+#include <string>
+
+#include "core/result.h"
+
+struct GLFWwindow;
+
+namespace hw::gl {
+
+class Context {
+ public:
+  virtual ~Context() = default;
+  virtual void makeCurrent() = 0;
+  // GL_RENDERER and GL_VERSION strings of this context.
+  const std::string& renderer() const { return renderer_; }
+  const std::string& version() const { return version_; }
+
+ protected:
+  std::string renderer_, version_;
+};
+
+// OSMesa core-profile 4.5 context. Rendering goes to framebuffer objects; the
+// context's own buffer is a tiny placeholder. Error if Mesa cannot create it
+// (message says what to install or set). HW_GL_FAIL=1 in the environment makes
+// creation fail on purpose (to test that callers report it).
+Result<std::unique_ptr<Context>> createHeadlessContext();
+
+class WindowContext : public Context {
+ public:
+  virtual GLFWwindow* window() = 0;
+  virtual void swapBuffers() = 0;
+  virtual bool shouldClose() = 0;
+  virtual void pollEvents() = 0;
+};
+
+// A GLFW window with a 4.5 core context. Error when there is no display
+// (set DISPLAY, or run under xvfb-run) or the context cannot be created.
+Result<std::unique_ptr<WindowContext>> createWindowContext(int width, int height,
+                                                           const std::string& title,
+                                                           bool visible = true);
+
+}  // namespace hw::gl

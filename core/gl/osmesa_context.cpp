@@ -1,0 +1,74 @@
+// OSMesa context. Only this file includes GL/osmesa.h (which pulls in the
+// prototypes of GL/gl.h); everything else goes through gl_api.h.
+#include <GL/osmesa.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "core/gl/context.h"
+
+namespace hw::gl {
+
+Status loadGlFunctions(void* (*getProc)(const char*));
+
+namespace {
+
+using GetStringFn = const GLubyte* (*)(GLenum);
+
+class OsMesaContext final : public Context {
+ public:
+  explicit OsMesaContext(OSMesaContext ctx) : ctx_(ctx), buffer_(kSize * kSize * 4) {}
+  ~OsMesaContext() override { OSMesaDestroyContext(ctx_); }
+  void makeCurrent() override {
+    OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, kSize, kSize);
+  }
+  bool init() {
+    if (!OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, kSize, kSize)) return false;
+    auto getString = reinterpret_cast<GetStringFn>(OSMesaGetProcAddress("glGetString"));
+    if (!getString) return false;
+    auto str = [&](GLenum e) {
+      const GLubyte* s = getString(e);
+      return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
+    };
+    renderer_ = str(GL_RENDERER);
+    version_ = str(GL_VERSION);
+    return true;
+  }
+
+ private:
+  static constexpr int kSize = 16;
+  OSMesaContext ctx_;
+  std::vector<unsigned char> buffer_;
+};
+
+void* osmesaProc(const char* name) {
+  return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Context>> createHeadlessContext() {
+  const char* fail = std::getenv("HW_GL_FAIL");
+  if (fail && std::strcmp(fail, "1") == 0)
+    return makeError("cannot create an OSMesa OpenGL context: HW_GL_FAIL=1 is set");
+  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS, 24,
+                         OSMESA_STENCIL_BITS, 0,
+                         OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION, 4,
+                         OSMESA_CONTEXT_MINOR_VERSION, 5,
+                         0};
+  OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
+  if (!ctx)
+    return makeError(
+        "cannot create an OSMesa OpenGL 4.5 core context (expected Mesa >= 20 with llvmpipe; "
+        "install libosmesa6, and check GALLIUM_DRIVER/LIBGL_ALWAYS_SOFTWARE are not set to an "
+        "unavailable driver)");
+  auto context = std::make_unique<OsMesaContext>(ctx);
+  if (!context->init()) return makeError("cannot make the OSMesa context current");
+  HW_TRY(loadGlFunctions(&osmesaProc));
+  return std::unique_ptr<Context>(std::move(context));
+}
+
+}  // namespace hw::gl

@@ -1,0 +1,164 @@
+#include "gapfill/compose.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "core/check.h"
+
+namespace hw::gapfill {
+namespace {
+
+static_assert(sizeof(Rgba8) == 4, "Rgba8 is selected as one 32-bit word");
+
+template <class T>
+void ensureSize(Image<T>& im, int width, int height) {
+  if (im.width() != width || im.height() != height) im.resize(width, height);
+}
+
+template <class A, class B>
+void checkSameSize(const Image<A>& a, const Image<B>& b) {
+  HW_CHECK_EQ(a.width(), b.width());
+  HW_CHECK_EQ(a.height(), b.height());
+}
+
+struct Counts {
+  int fg = 0, bg = 0, prev = 0, holes = 0;
+};
+
+struct Inputs {
+  const Rgba8* fgColour;
+  const std::uint8_t* fgCoverage;
+  const float* fgZ;
+  const Rgba8* bgColour;
+  const std::uint8_t* bgCoverage;
+  const float* bgZ;
+  const Rgba8* prevColour;
+  const std::uint8_t* prevValid;
+};
+
+// One branch-free pass over all pixels; the variants are compile-time so the
+// loop carries no null tests and vectorises.
+template <bool kHasBg, bool kHasPrev, bool kMerge>
+Counts composePixels(const Inputs& in, float keepFgFactor, std::size_t n, Rgba8* __restrict outColour,
+                     std::uint8_t* __restrict outHoles, std::uint8_t* __restrict outValid) {
+  const std::uint32_t unfilled = std::bit_cast<std::uint32_t>(kUnfilledColour);
+  int nf = 0, nb = 0, np = 0, nh = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool cf = in.fgCoverage[i] != 0;
+    const bool cb = kHasBg && in.bgCoverage[i] != 0;
+    bool takeB = cb && !cf;
+    if constexpr (kMerge) takeB = cb && (!cf || in.bgZ[i] < keepFgFactor * in.fgZ[i]);
+    const bool takeF = cf && !takeB;
+    const bool hole = !cf && !cb;
+    const bool takeP = kHasPrev && hole && in.prevValid[i] != 0;
+
+    std::uint32_t c = unfilled;
+    if constexpr (kHasPrev) c = takeP ? std::bit_cast<std::uint32_t>(in.prevColour[i]) : c;
+    if constexpr (kHasBg) c = takeB ? std::bit_cast<std::uint32_t>(in.bgColour[i]) : c;
+    c = takeF ? std::bit_cast<std::uint32_t>(in.fgColour[i]) : c;
+    outColour[i] = std::bit_cast<Rgba8>(c);
+    outHoles[i] = static_cast<std::uint8_t>(hole);
+    outValid[i] = static_cast<std::uint8_t>(!hole || takeP);
+    nf += takeF;
+    nb += takeB;
+    np += takeP;
+    nh += hole;
+  }
+  return Counts{nf, nb, np, nh};
+}
+
+template <bool kHasBg, bool kHasPrev>
+Counts dispatchMerge(bool merge, const Inputs& in, float keepFgFactor, std::size_t n,
+                     Frame& out) {
+  if (merge)
+    return composePixels<kHasBg, kHasPrev, true>(in, keepFgFactor, n, out.colour.data(),
+                                                 out.holesBefore.data(), out.valid.data());
+  return composePixels<kHasBg, kHasPrev, false>(in, keepFgFactor, n, out.colour.data(),
+                                                out.holesBefore.data(), out.valid.data());
+}
+
+}  // namespace
+
+const char* composeModeName(ComposeMode m) {
+  switch (m) {
+    case ComposeMode::Overlay: return "overlay";
+    case ComposeMode::DepthMerge: return "depth-merge";
+  }
+  return "?";
+}
+
+bool parseComposeMode(const char* s, ComposeMode* out) {
+  HW_CHECK(out != nullptr);
+  if (s == nullptr) return false;
+  for (ComposeMode m : {ComposeMode::Overlay, ComposeMode::DepthMerge}) {
+    if (std::strcmp(s, composeModeName(m)) == 0) {
+      *out = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+void compose(const warp::Layer& foreground, const warp::Layer* background, const Frame* previous,
+             const ComposeOptions& options, Frame& out) {
+  HW_CHECK(previous != &out);
+  const bool merge = options.mode == ComposeMode::DepthMerge && background != nullptr;
+  const int w = foreground.colour.width();
+  const int h = foreground.colour.height();
+  checkSameSize(foreground.colour, foreground.coverage);
+  if (background) {
+    checkSameSize(foreground.colour, background->colour);
+    checkSameSize(foreground.colour, background->coverage);
+  }
+  if (merge) {
+    HW_CHECK(options.depthTolerance >= 0.0f && options.depthTolerance < 1.0f);
+    checkSameSize(foreground.colour, foreground.eyeZ);
+    checkSameSize(foreground.colour, background->eyeZ);
+  }
+  if (previous) {
+    checkSameSize(foreground.colour, previous->colour);
+    checkSameSize(foreground.colour, previous->valid);
+  }
+
+  ensureSize(out.colour, w, h);
+  ensureSize(out.holesBefore, w, h);
+  ensureSize(out.valid, w, h);
+
+  const Inputs in{foreground.colour.data(),
+                  foreground.coverage.data(),
+                  merge ? foreground.eyeZ.data() : nullptr,
+                  background ? background->colour.data() : nullptr,
+                  background ? background->coverage.data() : nullptr,
+                  merge ? background->eyeZ.data() : nullptr,
+                  previous ? previous->colour.data() : nullptr,
+                  previous ? previous->valid.data() : nullptr};
+  const float keepFgFactor = 1.0f - options.depthTolerance;
+  const std::size_t n = out.colour.size();
+
+  Counts c;
+  if (background) {
+    c = previous ? dispatchMerge<true, true>(merge, in, keepFgFactor, n, out)
+                 : dispatchMerge<true, false>(merge, in, keepFgFactor, n, out);
+  } else {
+    c = previous ? dispatchMerge<false, true>(false, in, keepFgFactor, n, out)
+                 : dispatchMerge<false, false>(false, in, keepFgFactor, n, out);
+  }
+
+  out.fromForeground = c.fg;
+  out.fromBackground = c.bg;
+  out.fromPrevious = c.prev;
+  out.unfilled = c.holes - c.prev;
+  const double total = static_cast<double>(n);
+  out.holeFractionBefore = n ? static_cast<double>(c.holes) / total : 0.0;
+  out.holeFractionAfter = n ? static_cast<double>(out.unfilled) / total : 0.0;
+}
+
+int chooseForeground(const glm::dvec3& eye, const glm::dvec3& eyeA, const glm::dvec3& eyeB) {
+  const double dA = glm::length(eye - eyeA);
+  const double dB = glm::length(eye - eyeB);
+  if (std::abs(dA - dB) <= kForegroundTieRelTol * (dA + dB)) return 0;
+  return dA < dB ? 0 : 1;
+}
+
+}  // namespace hw::gapfill

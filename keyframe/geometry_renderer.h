@@ -1,0 +1,45 @@
+#pragma once
+// GeometryRenderer: draws a Scene at a camera with OpenGL into colour + depth
+// and hands back a Keyframe (Zheng et al. 1999 §1.1). It is both the keyframe
+// source and the reference/baseline renderer, so it is a fair one: one VBO/IBO
+// for the scene, per-mesh frustum culling, meshes sorted by material, no
+// per-frame allocation. Needs a current GL context (core/gl/context.h).
+#include <cstddef>
+#include <memory>
+
+#include "core/camera.h"
+#include "core/result.h"
+#include "keyframe/keyframe.h"
+#include "scenes/scene.h"
+
+namespace hw::keyframe {
+
+struct RenderOptions {
+  DepthMode depthMode = DepthMode::Fixed24;  // the paper's 24-bit z-buffer
+  bool frustumCulling = true;
+};
+
+struct RenderStats {
+  double drawMs = 0;      // submit + glFinish
+  double readbackMs = 0;  // colour (+ depth) readback and conversion
+  std::size_t meshesDrawn = 0;
+  std::size_t trianglesDrawn = 0;
+};
+
+class GeometryRenderer {
+ public:
+  virtual ~GeometryRenderer() = default;
+  // Uploads the scene (copies what it needs; `scene` may be freed after).
+  static Result<std::unique_ptr<GeometryRenderer>> create(const scenes::Scene& scene,
+                                                          const RenderOptions& options = {});
+
+  // Full keyframe: colour, z', eye z, coverage. `out` is reused when sizes match.
+  virtual Status renderKeyframe(const Camera& camera, Keyframe& out, RenderStats* stats = nullptr) = 0;
+  // Colour only (reference images); cheaper readback.
+  virtual Status renderColour(const Camera& camera, Image<Rgba8>& out,
+                              RenderStats* stats = nullptr) = 0;
+  virtual std::size_t sceneTriangles() const = 0;
+  virtual const RenderOptions& options() const = 0;
+};
+
+}  // namespace hw::keyframe

@@ -1,0 +1,293 @@
+#include "keyframe/geometry_renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/gl/framebuffer.h"
+#include "core/gl/gl_api.h"
+#include "core/gl/shader.h"
+#include "core/timer.h"
+
+namespace hw::keyframe {
+namespace {
+
+// Lighting is view-independent (fixed sun + ambient) so that keyframe
+// colours stay valid from nearby viewpoints, as image warping assumes.
+constexpr const char* kVertex = R"(#version 450 core
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aUv;
+uniform mat4 uViewProj;
+out vec3 vNormal;
+out vec2 vUv;
+void main() {
+  vNormal = aNormal;
+  vUv = aUv;
+  gl_Position = uViewProj * vec4(aPos, 1.0);
+}
+)";
+
+constexpr const char* kFragment = R"(#version 450 core
+in vec3 vNormal;
+in vec2 vUv;
+uniform sampler2D uTex;
+uniform int uHasTex;
+uniform vec4 uBase;
+uniform int uAlphaTest;
+uniform float uCutoff;
+uniform int uUnlit;
+layout(location = 0) out vec4 oColour;
+void main() {
+  vec4 c = uBase;
+  if (uHasTex != 0) c *= texture(uTex, vUv);
+  if (uAlphaTest != 0 && c.a < uCutoff) discard;
+  if (uUnlit == 0) {
+    vec3 n = normalize(gl_FrontFacing ? vNormal : -vNormal);
+    const vec3 sun = normalize(vec3(0.45, 0.8, 0.35));
+    float d = max(dot(n, sun), 0.0);
+    float sky = 0.5 + 0.5 * n.y;
+    c.rgb *= 0.25 + 0.15 * sky + 0.6 * d;
+  }
+  oColour = vec4(c.rgb, 1.0);
+}
+)";
+
+struct DrawItem {
+  std::size_t firstIndex = 0, indexCount = 0;
+  int material = 0;
+  glm::vec3 lo{0.0f}, hi{0.0f};
+};
+
+class GlGeometryRenderer final : public GeometryRenderer {
+ public:
+  ~GlGeometryRenderer() override {
+    if (vao_) glDeleteVertexArrays(1, &vao_);
+    if (vbo_) glDeleteBuffers(1, &vbo_);
+    if (ibo_) glDeleteBuffers(1, &ibo_);
+    if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  }
+
+  Status init(const scenes::Scene& scene, const RenderOptions& options) {
+    options_ = options;
+    materials_ = scene.materials;
+    if (materials_.empty()) materials_.push_back(scenes::Material{});
+    sky_ = scene.skyColour;
+    triangles_ = scene.triangleCount();
+    auto prog = gl::Program::build("geometry", kVertex, kFragment);
+    if (!prog) return prog.error();
+    program_ = std::move(*prog);
+    uViewProj_ = program_.uniform("uViewProj");
+    uTex_ = program_.uniform("uTex");
+    uHasTex_ = program_.uniform("uHasTex");
+    uBase_ = program_.uniform("uBase");
+    uAlphaTest_ = program_.uniform("uAlphaTest");
+    uCutoff_ = program_.uniform("uCutoff");
+    uUnlit_ = program_.uniform("uUnlit");
+
+    // One vertex and one index buffer for the whole scene; meshes are index
+    // ranges with indices rebased to global vertex numbers.
+    std::size_t nv = 0, ni = 0;
+    for (const auto& m : scene.meshes) {
+      nv += m.vertices.size();
+      ni += m.indices.size();
+    }
+    std::vector<scenes::Vertex> verts;
+    std::vector<std::uint32_t> idx;
+    verts.reserve(nv);
+    idx.reserve(ni);
+    std::vector<std::size_t> order(scene.meshes.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return scene.meshes[a].material < scene.meshes[b].material;
+    });
+    for (std::size_t k : order) {
+      const auto& m = scene.meshes[k];
+      if (m.indices.empty()) continue;
+      if (m.material < 0 || m.material >= static_cast<int>(materials_.size()))
+        return makeError("scene " + scene.name + ": mesh '" + m.name + "' uses material " +
+                         std::to_string(m.material) + " but the scene has " +
+                         std::to_string(materials_.size()));
+      DrawItem d;
+      d.firstIndex = idx.size();
+      d.indexCount = m.indices.size();
+      d.material = m.material;
+      d.lo = m.boundsMin;
+      d.hi = m.boundsMax;
+      const auto base = static_cast<std::uint32_t>(verts.size());
+      for (std::uint32_t i : m.indices) {
+        if (i >= m.vertices.size())
+          return makeError("scene " + scene.name + ": mesh '" + m.name + "' has index " +
+                           std::to_string(i) + " >= vertex count " +
+                           std::to_string(m.vertices.size()));
+        idx.push_back(base + i);
+      }
+      verts.insert(verts.end(), m.vertices.begin(), m.vertices.end());
+      items_.push_back(d);
+    }
+    glGenVertexArrays(1, &vao_);
+    glBindVertexArray(vao_);
+    glGenBuffers(1, &vbo_);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(verts.size() * sizeof(scenes::Vertex)),
+                 verts.data(), GL_STATIC_DRAW);
+    glGenBuffers(1, &ibo_);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * 4), idx.data(),
+                 GL_STATIC_DRAW);
+    const auto stride = static_cast<GLsizei>(sizeof(scenes::Vertex));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(offsetof(scenes::Vertex, position)));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(offsetof(scenes::Vertex, normal)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(offsetof(scenes::Vertex, uv)));
+    glBindVertexArray(0);
+
+    for (const auto& t : scene.textures) {
+      GLuint id = 0;
+      glGenTextures(1, &id);
+      glBindTexture(GL_TEXTURE_2D, id);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      // Row 0 (top) goes to t = 0, so uv.v = 0 samples the top row as the
+      // scene convention says.
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t.image.width(), t.image.height(), 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, t.image.data());
+      glGenerateMipmap(GL_TEXTURE_2D);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      textures_.push_back(id);
+    }
+    return gl::checkGlError("GeometryRenderer::create");
+  }
+
+  Status renderKeyframe(const Camera& camera, Keyframe& out, RenderStats* stats) override {
+    RenderStats local;
+    HW_TRY(draw(camera, local));
+    Stopwatch sw;
+    fbo_.readColour(out.colour);
+    fbo_.readDepth(camera.nearPlane, camera.farPlane, out.zPrime, out.eyeZ, out.covered);
+    out.camera = camera;
+    out.depthMode = options_.depthMode;
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderKeyframe");
+  }
+
+  Status renderColour(const Camera& camera, Image<Rgba8>& out, RenderStats* stats) override {
+    RenderStats local;
+    HW_TRY(draw(camera, local));
+    Stopwatch sw;
+    fbo_.readColour(out);
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderColour");
+  }
+
+  std::size_t sceneTriangles() const override { return triangles_; }
+  const RenderOptions& options() const override { return options_; }
+
+ private:
+  Status ensureFbo(int w, int h) {
+    if (fbo_.width() == w && fbo_.height() == h) return {};
+    auto fb = gl::Framebuffer::create(w, h, options_.depthMode);
+    if (!fb) return fb.error();
+    fbo_ = std::move(*fb);
+    return {};
+  }
+
+  // Frustum planes from a double view-projection (Gribb-Hartmann), tested
+  // against each mesh's AABB (p-vertex test).
+  static bool aabbOutside(const std::array<glm::dvec4, 6>& planes, const glm::vec3& lo,
+                          const glm::vec3& hi) {
+    for (const auto& p : planes) {
+      const glm::dvec3 v(p.x >= 0 ? hi.x : lo.x, p.y >= 0 ? hi.y : lo.y, p.z >= 0 ? hi.z : lo.z);
+      if (p.x * v.x + p.y * v.y + p.z * v.z + p.w < 0) return true;
+    }
+    return false;
+  }
+
+  Status draw(const Camera& camera, RenderStats& stats) {
+    HW_TRY(ensureFbo(camera.width, camera.height));
+    Stopwatch sw;
+    fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
+    const glm::dmat4 vp = camera.projectionMatrix(options_.depthMode) * camera.viewMatrix();
+    const glm::mat4 vpf(vp);
+    std::array<glm::dvec4, 6> planes;
+    const glm::dmat4 t = glm::transpose(vp);
+    planes[0] = t[3] + t[0];
+    planes[1] = t[3] - t[0];
+    planes[2] = t[3] + t[1];
+    planes[3] = t[3] - t[1];
+    planes[4] = options_.depthMode == DepthMode::Float32Reversed ? t[3] - t[2] : t[3] + t[2];
+    planes[5] = options_.depthMode == DepthMode::Float32Reversed ? t[2] : t[3] - t[2];
+
+    program_.use();
+    glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, glm::value_ptr(vpf));
+    glUniform1i(uTex_, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindVertexArray(vao_);
+    glDisable(GL_BLEND);
+    glFrontFace(GL_CCW);
+    int bound = -1;
+    for (const DrawItem& d : items_) {
+      if (options_.frustumCulling && aabbOutside(planes, d.lo, d.hi)) continue;
+      if (d.material != bound) {
+        const scenes::Material& m = materials_[static_cast<std::size_t>(d.material)];
+        const bool hasTex = m.texture >= 0 && m.texture < static_cast<int>(textures_.size());
+        glUniform1i(uHasTex_, hasTex ? 1 : 0);
+        if (hasTex) glBindTexture(GL_TEXTURE_2D, textures_[static_cast<std::size_t>(m.texture)]);
+        glUniform4f(uBase_, m.baseColour.r, m.baseColour.g, m.baseColour.b, m.baseColour.a);
+        glUniform1i(uAlphaTest_, m.alphaTest ? 1 : 0);
+        glUniform1f(uCutoff_, m.alphaCutoff);
+        glUniform1i(uUnlit_, m.unlit ? 1 : 0);
+        if (m.twoSided) {
+          glDisable(GL_CULL_FACE);
+        } else {
+          glEnable(GL_CULL_FACE);
+          glCullFace(GL_BACK);
+        }
+        bound = d.material;
+      }
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
+                     reinterpret_cast<void*>(d.firstIndex * sizeof(std::uint32_t)));
+      ++stats.meshesDrawn;
+      stats.trianglesDrawn += d.indexCount / 3;
+    }
+    glBindVertexArray(0);
+    glFinish();
+    stats.drawMs = sw.ms();
+    return {};
+  }
+
+  RenderOptions options_;
+  std::vector<scenes::Material> materials_;
+  glm::vec3 sky_{0.0f};
+  std::size_t triangles_ = 0;
+  gl::Program program_;
+  int uViewProj_ = -1, uTex_ = -1, uHasTex_ = -1, uBase_ = -1, uAlphaTest_ = -1, uCutoff_ = -1,
+      uUnlit_ = -1;
+  GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
+  std::vector<GLuint> textures_;
+  std::vector<DrawItem> items_;
+  gl::Framebuffer fbo_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<GeometryRenderer>> GeometryRenderer::create(const scenes::Scene& scene,
+                                                                   const RenderOptions& options) {
+  auto r = std::make_unique<GlGeometryRenderer>();
+  HW_TRY(r->init(scene, options));
+  return std::unique_ptr<GeometryRenderer>(std::move(r));
+}
+
+}  // namespace hw::keyframe

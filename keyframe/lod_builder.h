@@ -1,0 +1,118 @@
+#pragma once
+// LOD builder: binary subdivision of the Δ buffer into rectangles planar within
+// τ, and one spatial quad per leaf (Zheng et al. 1999 §1.2; DESIGN.md "Binary
+// subdivision"). Corners are a least-squares plane fit of z' evaluated at the
+// leaf's outer pixel edges (the paper's half-pixel expansion).
+#include <cstdint>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/image.h"
+#include "core/result.h"
+#include "keyframe/delta_buffer.h"
+#include "keyframe/keyframe.h"
+#include "keyframe/quad_mesh.h"
+
+namespace hw::keyframe {
+
+struct LodOptions {
+  // Threshold on |Δ²z'| in z' units (2^24 scale, eq. 2). The paper's reference
+  // points are 2^11 and 2^15. Must be finite and >= 0.
+  double tau = 2048.0;
+  DeltaCriterion criterion = DeltaCriterion::FivePoint;
+  // When > 0 it replaces `tau`: the largest parallax error, in pixels per unit
+  // of camera translation (scene units), that a leaf's non-planarity may
+  // cause. Converted to z' units per keyframe (see tauFromParallax). Must be
+  // finite and >= 0.
+  double tauParallaxPx = 0.0;
+};
+
+// The z'-unit threshold equivalent to a parallax bound p (pixels per scene
+// unit of camera motion) for this camera.
+// Derivation: eq. (2) gives z' = S·f/(f−n)·(1 − n/z), so for any second
+// difference Δ²z' = −S·f·n/(f−n) · Δ²(1/z). A camera translation d
+// (perpendicular to the ray) moves a point at depth z by fx·d/z pixels, so the
+// mismatch between a surface and its planar quad (1/z is affine on a plane,
+// Δ²(1/z) measures the departure from it) is ≈ fx·d·|Δ²(1/z)| pixels. Bounding
+// fx·|Δ²(1/z)| ≤ p is therefore |Δ²z'| ≤ p·S·f·n / (fx·(f−n)).
+double tauFromParallax(double parallaxPx, const Camera& camera);
+
+// Reusable builder: keeps its buffers between builds, so rebuilding a keyframe
+// of the same size does not allocate (except for growth of out->quads).
+//
+// Subdivision (paper §1.2): start with the whole image, cut alternately in x
+// (first) and y; a region 1 pixel wide in the current direction is cut in the
+// other. To place a cut, scan lines from one end until a line holds an element
+// with |Δ²| > τ; if the clean part is at least 1/4 of the region, cut after the
+// last clean line; otherwise try from the other end; otherwise cut in the
+// middle. A region is a leaf when its max |Δ²| ≤ τ, or when it is 1×1.
+// Empty pixels (covered == 0, or a non-finite z') belong to no quad: they are
+// never "dirty" (kDeltaEmpty), while every covered pixel next to one is
+// (kDeltaDiscontinuity), so a clean region is either fully covered (a leaf) or
+// fully empty (dropped). This is exactly the paper's rule applied to a depth
+// buffer whose background is a constant far plane, minus the background quads.
+class LodBuilder {
+ public:
+  // Whole build. Bad input returns an error and leaves *out empty:
+  //  - zPrime/covered of different sizes, or not camera.width × camera.height;
+  //  - an empty image (0 pixels) or one with more than 2^30 pixels;
+  //  - a camera with non-finite pose, fov outside (0, π), or not 0 < near < far;
+  //  - tau / tauParallaxPx negative or non-finite.
+  // Non-finite z' at a covered pixel is treated as empty. Every corner of the
+  // result is finite, with 0 < eyeZ (see clamping in recoverCorners).
+  Status build(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
+               const Camera& camera, const LodOptions& options, QuadMesh* out);
+  // Same on a keyframe; its colour (and eyeZ, if non-empty) must match too.
+  Status build(const Keyframe& keyframe, const LodOptions& options, QuadMesh* out);
+
+  // The three steps of build(), exposed for benchmarks and tools. Call
+  // prepare() first; the views must outlive the following steps.
+  // prepare: validates, computes the valid mask and the Δ buffer.
+  Status prepare(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
+                 const Camera& camera, const LodOptions& options);
+  // subdivide: the dirty-mask summed-area table and the binary subdivision;
+  // fills leaves(). Returns its time in ms.
+  double subdivide();
+  // recoverCorners: one Quad per leaf into out (resets it). Returns ms.
+  double recoverCorners(QuadMesh* out);
+
+  // Results of the last prepare()/subdivide().
+  const Image<float>& delta() const { return delta_; }
+  const Image<std::uint8_t>& valid() const { return valid_; }
+  const std::vector<PixelRect>& leaves() const { return leaves_; }
+  double tauZPrime() const { return tauZPrime_; }
+
+ private:
+  struct Region {
+    int x0, y0, x1, y1;
+    bool cutX;  // direction of the next cut: true = split the x range
+  };
+  // Dirty pixels (|Δ²| > τ) in [x0, x1) × [y0, y1), from the summed-area table.
+  std::int32_t dirtyCount(int x0, int y0, int x1, int y1) const {
+    const std::int32_t* a = sat_.data() + static_cast<std::ptrdiff_t>(y0) * satStride_;
+    const std::int32_t* b = sat_.data() + static_cast<std::ptrdiff_t>(y1) * satStride_;
+    return b[x1] - b[x0] - a[x1] + a[x0];
+  }
+  int findCut(const Region& r, bool cutX) const;
+
+  ImageView<const double> zPrime_;
+  Camera camera_;
+  LodOptions options_;
+  double tauZPrime_ = 0;
+  double deltaMs_ = 0;
+  long long emptyPixels_ = 0;
+  Image<std::uint8_t> valid_;
+  Image<float> delta_;
+  std::vector<std::int32_t> sat_;  // (w+1)×(h+1) prefix counts of dirty pixels
+  std::ptrdiff_t satStride_ = 0;
+  std::vector<Region> stack_;
+  std::vector<PixelRect> leaves_;
+  bool prepared_ = false;
+};
+
+// One-shot conveniences (allocate a builder each call).
+Result<QuadMesh> buildQuadMesh(const Keyframe& keyframe, const LodOptions& options);
+Result<QuadMesh> buildQuadMesh(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
+                               const Camera& camera, const LodOptions& options);
+
+}  // namespace hw::keyframe

@@ -1,0 +1,318 @@
+// Camera path parsing (DESIGN.md "Camera path (JSON)") and constant-speed
+// sampling: uniform Catmull-Rom through the eyes and, separately, through the
+// look-at points, reparametrised by arc length of the eye curve.
+#include "scenes/camera_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/file_io.h"
+
+namespace hw::scenes {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+// Sine of the smallest angle allowed between the view direction and `up`.
+constexpr double kMinSinViewUp = 1e-6;
+// Arc-length samples per curve segment; linear interpolation between them
+// keeps frame spacing within ~0.1% of uniform for ordinary paths.
+constexpr int kSamplesPerSegment = 128;
+
+std::string describe(const Json& j) {
+  std::string s = j.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  if (j.is_string()) return "string " + s;
+  if (j.is_array()) return "array " + s;
+  if (j.is_object()) return "object " + s;
+  if (j.is_boolean()) return "boolean " + s;
+  if (j.is_null()) return "null";
+  return s;
+}
+
+struct Ctx {
+  std::string source;
+  Error fail(const std::string& key, const std::string& expected, const Json& got) const {
+    return makeError(source + ": " + key + ": expected " + expected + ", got " + describe(got));
+  }
+  Error fail(const std::string& key, const std::string& what) const {
+    return makeError(source + ": " + key + ": " + what);
+  }
+};
+
+Result<double> getNumber(const Ctx& c, const Json& j, const std::string& key) {
+  if (!j.is_number()) return c.fail(key, "a number", j);
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) return c.fail(key, "a finite number", j);
+  return v;
+}
+
+Result<int> getInt(const Ctx& c, const Json& j, const std::string& key, int lo, int hi) {
+  const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const std::string expectedLo = "an integer >= " + std::to_string(lo);
+  const std::string& exp = hi == std::numeric_limits<int>::max() ? expectedLo : expected;
+  if (!j.is_number_integer()) return c.fail(key, exp, j);
+  if (j.is_number_unsigned()) {
+    const auto u = j.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(hi)) return c.fail(key, exp, j);
+    return static_cast<int>(u);
+  }
+  const auto v = j.get<std::int64_t>();
+  if (v < lo || v > hi) return c.fail(key, exp, j);
+  return static_cast<int>(v);
+}
+
+Result<glm::dvec3> getVec3(const Ctx& c, const Json& j, const std::string& key) {
+  if (!j.is_array() || j.size() != 3) return c.fail(key, "an array of 3 numbers", j);
+  glm::dvec3 v;
+  for (int i = 0; i < 3; ++i) {
+    auto x = getNumber(c, j[static_cast<std::size_t>(i)], key + "[" + std::to_string(i) + "]");
+    if (!x) return x.error();
+    v[i] = *x;
+  }
+  return v;
+}
+
+std::string fmtVec(const glm::dvec3& v) {
+  std::ostringstream s;
+  s << "[" << v.x << ", " << v.y << ", " << v.z << "]";
+  return s.str();
+}
+
+bool parallel(const glm::dvec3& dir, const glm::dvec3& up) {
+  const double ld = glm::length(dir), lu = glm::length(up);
+  if (ld <= 0.0 || lu <= 0.0) return true;
+  return glm::length(glm::cross(dir / ld, up / lu)) < kMinSinViewUp;
+}
+
+// Uniform Catmull-Rom on segment [p1, p2] with neighbours p0, p3, t in [0, 1].
+glm::dvec3 catmullRom(const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2,
+                      const glm::dvec3& p3, double t) {
+  const double t2 = t * t, t3 = t2 * t;
+  return 0.5 * ((2.0 * p1) + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
+                (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3);
+}
+
+enum class Which { Eye, LookAt };
+
+// Point at global parameter u in [0, n−1] (n = keys), end points duplicated.
+glm::dvec3 curveAt(const std::vector<CameraKey>& keys, Which which, double u) {
+  const int n = static_cast<int>(keys.size());
+  auto pt = [&](int i) -> const glm::dvec3& {
+    const CameraKey& k = keys[static_cast<std::size_t>(std::clamp(i, 0, n - 1))];
+    return which == Which::Eye ? k.eye : k.lookAt;
+  };
+  if (n == 1) return pt(0);
+  u = std::clamp(u, 0.0, static_cast<double>(n - 1));
+  int seg = std::min(static_cast<int>(std::floor(u)), n - 2);
+  const double t = u - seg;
+  return catmullRom(pt(seg - 1), pt(seg), pt(seg + 1), pt(seg + 2), t);
+}
+
+// Cumulative arc length of one curve sampled kSamplesPerSegment times per
+// segment: table[k] = length up to parameter k / kSamplesPerSegment.
+std::vector<double> arcLengthTable(const std::vector<CameraKey>& keys, Which which) {
+  const int segs = static_cast<int>(keys.size()) - 1;
+  const int m = segs * kSamplesPerSegment;
+  std::vector<double> table(static_cast<std::size_t>(m) + 1, 0.0);
+  glm::dvec3 prev = curveAt(keys, which, 0.0);
+  for (int k = 1; k <= m; ++k) {
+    const glm::dvec3 p = curveAt(keys, which, static_cast<double>(k) / kSamplesPerSegment);
+    table[static_cast<std::size_t>(k)] = table[static_cast<std::size_t>(k) - 1] + glm::length(p - prev);
+    prev = p;
+  }
+  return table;
+}
+
+// Curve parameter at which the arc length reaches `s` (linear between samples).
+double parameterAtLength(const std::vector<double>& table, double s) {
+  const auto it = std::lower_bound(table.begin(), table.end(), s);
+  if (it == table.begin()) return 0.0;
+  if (it == table.end()) return static_cast<double>(table.size() - 1) / kSamplesPerSegment;
+  const auto k = static_cast<std::size_t>(it - table.begin());
+  const double a = table[k - 1], b = table[k];
+  const double f = b > a ? (s - a) / (b - a) : 0.0;
+  return (static_cast<double>(k - 1) + f) / kSamplesPerSegment;
+}
+
+// An up vector that is not parallel to `forward`: `up` itself when usable,
+// else the world axis least aligned with the view direction.
+glm::dvec3 safeUp(const glm::dvec3& forward, const glm::dvec3& up) {
+  if (!parallel(forward, up)) return up;
+  const glm::dvec3 f = glm::normalize(forward);
+  const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  int best = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(glm::dot(f, axes[i])) < std::abs(glm::dot(f, axes[best]))) best = i;
+  return glm::cross(glm::cross(f, axes[best]), f);
+}
+
+}  // namespace
+
+Camera CameraPath::cameraAt(int index) const {
+  HW_CHECK(!keys.empty());
+  HW_CHECK_GE(index, 0);
+  HW_CHECK_LT(index, std::max(frames, 1));
+  const int n = static_cast<int>(keys.size());
+  double u = 0.0;  // global curve parameter in [0, n−1]
+  if (n > 1 && frames > 1) {
+    const double frac = static_cast<double>(index) / (frames - 1);
+    std::vector<double> table = arcLengthTable(keys, Which::Eye);
+    // Pure rotation (all eyes coincide): parametrise by the look-at curve.
+    const double scale = std::max(1.0, glm::length(keys.front().eye));
+    if (table.back() <= 1e-9 * scale) table = arcLengthTable(keys, Which::LookAt);
+    if (table.back() > 1e-12)
+      u = parameterAtLength(table, frac * table.back());
+    else
+      u = frac * (n - 1);
+  }
+  if (index == frames - 1) u = n - 1;  // exactly at the last key
+  const glm::dvec3 eye = curveAt(keys, Which::Eye, u);
+  glm::dvec3 target = curveAt(keys, Which::LookAt, u);
+  if (!(glm::length(target - eye) > 1e-9)) {
+    // Curves cross here: keep the nearest key's viewing direction.
+    const CameraKey& k = keys[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(u)), 0, n - 1))];
+    glm::dvec3 dir = k.lookAt - k.eye;
+    if (!(glm::length(dir) > 0.0)) dir = glm::dvec3(0, 0, -1);
+    target = eye + glm::normalize(dir);
+  }
+  const glm::dvec3 upHint = safeUp(target - eye, glm::length(up) > 0.0 ? up : glm::dvec3(0, 1, 0));
+  return Camera::lookAt(eye, target, upHint, fovYDeg * kPi / 180.0, width, height, nearPlane,
+                        farPlane);
+}
+
+Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::string& source) {
+  const Ctx c{source};
+  Json root;
+  try {
+    root = Json::parse(jsonText);
+  } catch (const Json::parse_error& e) {
+    return makeError(source + ": invalid JSON at byte " + std::to_string(e.byte) + ": " + e.what());
+  } catch (const std::exception& e) {
+    return makeError(source + ": invalid JSON: " + e.what());
+  }
+  if (!root.is_object()) return c.fail("(top level)", "an object", root);
+
+  static const char* const kKnown[] = {"width", "height", "fov_y_deg", "near", "far",
+                                        "up",    "keys",   "frames",    "keyframe_every"};
+  for (const auto& item : root.items()) {
+    if (std::find_if(std::begin(kKnown), std::end(kKnown),
+                     [&](const char* k) { return item.key() == k; }) == std::end(kKnown))
+      return c.fail(item.key(),
+                    "unknown key (known: width, height, fov_y_deg, near, far, up, keys, frames, "
+                    "keyframe_every)");
+  }
+  for (const char* required : {"keys", "frames"})
+    if (!root.contains(required)) return c.fail(required, "missing (required)");
+
+  CameraPath p;
+  if (root.contains("width")) {
+    auto v = getInt(c, root["width"], "width", 1, 16384);
+    if (!v) return v.error();
+    p.width = *v;
+  }
+  if (root.contains("height")) {
+    auto v = getInt(c, root["height"], "height", 1, 16384);
+    if (!v) return v.error();
+    p.height = *v;
+  }
+  if (root.contains("fov_y_deg")) {
+    auto v = getNumber(c, root["fov_y_deg"], "fov_y_deg");
+    if (!v) return v.error();
+    if (!(*v > 0.0 && *v < 180.0)) return c.fail("fov_y_deg", "a number in (0, 180)", root["fov_y_deg"]);
+    p.fovYDeg = *v;
+  }
+  if (root.contains("near")) {
+    auto v = getNumber(c, root["near"], "near");
+    if (!v) return v.error();
+    if (!(*v > 0.0)) return c.fail("near", "a number > 0", root["near"]);
+    p.nearPlane = *v;
+  }
+  if (root.contains("far")) {
+    auto v = getNumber(c, root["far"], "far");
+    if (!v) return v.error();
+    p.farPlane = *v;
+  }
+  if (!(p.farPlane > p.nearPlane)) {
+    std::ostringstream s;
+    s << "expected far > near, got near " << p.nearPlane << " and far " << p.farPlane;
+    return c.fail(root.contains("far") ? "far" : "near", s.str());
+  }
+  if (root.contains("up")) {
+    auto v = getVec3(c, root["up"], "up");
+    if (!v) return v.error();
+    if (glm::length(*v) <= 0.0) return c.fail("up", "a non-zero vector", root["up"]);
+    p.up = *v;
+  }
+  {
+    auto v = getInt(c, root["frames"], "frames", 1, std::numeric_limits<int>::max());
+    if (!v) return v.error();
+    p.frames = *v;
+  }
+  if (root.contains("keyframe_every")) {
+    auto v = getInt(c, root["keyframe_every"], "keyframe_every", 1, std::numeric_limits<int>::max());
+    if (!v) return v.error();
+    p.keyframeEvery = *v;
+  }
+
+  const Json& keys = root["keys"];
+  if (!keys.is_array() || keys.empty()) return c.fail("keys", "a non-empty array of {eye, look_at}", keys);
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const std::string name = "keys[" + std::to_string(i) + "]";
+    const Json& k = keys[i];
+    if (!k.is_object()) return c.fail(name, "an object {\"eye\": [x, y, z], \"look_at\": [x, y, z]}", k);
+    for (const auto& item : k.items())
+      if (item.key() != "eye" && item.key() != "look_at")
+        return c.fail(name + "." + item.key(), "unknown key (known: eye, look_at)");
+    for (const char* required : {"eye", "look_at"})
+      if (!k.contains(required)) return c.fail(name + "." + required, "missing (required)");
+    CameraKey key;
+    auto eye = getVec3(c, k["eye"], name + ".eye");
+    if (!eye) return eye.error();
+    auto at = getVec3(c, k["look_at"], name + ".look_at");
+    if (!at) return at.error();
+    key.eye = *eye;
+    key.lookAt = *at;
+    if (key.eye == key.lookAt)
+      return c.fail(name + ".look_at", "expected a point different from eye, got " + fmtVec(key.lookAt) +
+                                           " == eye");
+    if (parallel(key.lookAt - key.eye, p.up))
+      return c.fail(name + ".look_at", "view direction " + fmtVec(key.lookAt - key.eye) +
+                                           " is parallel to up " + fmtVec(p.up));
+    p.keys.push_back(key);
+  }
+  return p;
+}
+
+Result<CameraPath> loadCameraPath(const std::string& file) {
+  auto text = readFile(file);
+  if (!text) return text.error();
+  return parseCameraPath(*text, file);
+}
+
+std::string cameraPathToJson(const CameraPath& path) {
+  nlohmann::ordered_json j;
+  j["width"] = path.width;
+  j["height"] = path.height;
+  j["fov_y_deg"] = path.fovYDeg;
+  j["near"] = path.nearPlane;
+  j["far"] = path.farPlane;
+  j["up"] = {path.up.x, path.up.y, path.up.z};
+  nlohmann::ordered_json keys = nlohmann::ordered_json::array();
+  for (const CameraKey& k : path.keys) {
+    nlohmann::ordered_json o;
+    o["eye"] = {k.eye.x, k.eye.y, k.eye.z};
+    o["look_at"] = {k.lookAt.x, k.lookAt.y, k.lookAt.z};
+    keys.push_back(o);
+  }
+  j["keys"] = keys;
+  j["frames"] = path.frames;
+  j["keyframe_every"] = path.keyframeEvery;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace hw::scenes
