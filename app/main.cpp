@@ -1,1 +1,348 @@
-int main() { return 0; }
+// hybridwalk: the command-line program. Subcommands render (geometry frames),
+// lod (a keyframe's quad mesh overlay, paper Plate I-A) and walk (the hybrid
+// walkthrough with its report, the main job). Errors from outside (files,
+// options, GL) are printed as "hybridwalk: error: ..." with a non-zero exit.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "bench/walk.h"
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/machine.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/overlay.h"
+#include "scenes/camera_path.h"
+#include "scenes/loader.h"
+
+namespace {
+
+using namespace hw;  // NOLINT
+using nlohmann::json;
+
+constexpr int kExitRuntime = 1;
+constexpr int kExitUsage = 2;
+
+int fail(const std::string& msg) {
+  std::fprintf(stderr, "hybridwalk: error: %s\n", msg.c_str());
+  return kExitRuntime;
+}
+
+// "2048", "2^11", "1e3" → value; error text otherwise.
+bool parseTau(const std::string& s, double* out) {
+  try {
+    std::size_t pos = 0;
+    const auto caret = s.find('^');
+    double v;
+    if (caret != std::string::npos) {
+      const double base = std::stod(s.substr(0, caret), &pos);
+      if (pos != caret) return false;
+      const std::string e = s.substr(caret + 1);
+      const double ex = std::stod(e, &pos);
+      if (pos != e.size()) return false;
+      v = std::pow(base, ex);
+    } else {
+      v = std::stod(s, &pos);
+      if (pos != s.size()) return false;
+    }
+    if (!std::isfinite(v) || v < 0) return false;
+    *out = v;
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+struct Common {
+  std::string scene = "indoor";
+  std::string path;  // empty: the scene's default path
+  std::string depth = "fixed24";
+  int frames = 0;
+};
+
+void addCommon(CLI::App* c, Common& o) {
+  c->add_option("--scene", o.scene,
+                "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
+                "indoor:1M; default 100k), or a model file read by Assimp (OBJ, glTF, PLY, "
+                "COLLADA, AC3D, .blend, ...)")
+      ->capture_default_str();
+  c->add_option("--path", o.path,
+                "Camera path JSON (DESIGN.md format: width, height, fov_y_deg, near, far, up, "
+                "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
+                "scene's built-in path");
+  c->add_option("--depth", o.depth,
+                "Keyframe depth buffer: fixed24 (the paper's 24-bit z-buffer), float32, "
+                "float32-reversed")
+      ->check(CLI::IsMember({"fixed24", "float32", "float32-reversed"}))
+      ->capture_default_str();
+  c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
+
+struct Loaded {
+  scenes::Scene scene;
+  scenes::CameraPath path;
+  std::unique_ptr<gl::Context> context;
+};
+
+Result<Loaded> loadInputs(const Common& o) {
+  Loaded l;
+  // Validate the cheap inputs first, so a bad path file fails before a
+  // large scene is generated or loaded.
+  if (!o.path.empty()) {
+    auto p = scenes::loadCameraPath(o.path);
+    if (!p) return p.error();
+    l.path = std::move(*p);
+  }
+  Stopwatch sw;
+  auto s = scenes::loadScene(o.scene);
+  if (!s) return s.error();
+  l.scene = std::move(*s);
+  for (const auto& w : l.scene.warnings) std::fprintf(stderr, "hybridwalk: warning: %s\n", w.c_str());
+  std::fprintf(stderr, "scene %s: %zu triangles, %zu meshes, loaded in %.0f ms\n",
+               l.scene.name.c_str(), l.scene.triangleCount(), l.scene.meshes.size(), sw.ms());
+  if (o.path.empty()) {
+    auto p = scenes::defaultPathFor(o.scene);
+    if (!p) return p.error();
+    l.path = std::move(*p);
+  }
+  auto ctx = gl::createHeadlessContext();
+  if (!ctx) return ctx.error();
+  l.context = std::move(*ctx);
+  return l;
+}
+
+DepthMode depthModeOf(const std::string& s) {
+  DepthMode m = DepthMode::Fixed24;
+  parseDepthMode(s.c_str(), &m);
+  return m;
+}
+
+// ---- render ---------------------------------------------------------------
+int runRender(const Common& o, const std::string& outDir) {
+  auto in = loadInputs(o);
+  if (!in) return fail(in.error().message);
+  if (auto st = ensureWritableDir(outDir); !st) return fail(st.error().message);
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = depthModeOf(o.depth);
+  auto r = keyframe::GeometryRenderer::create(in->scene, ropt);
+  if (!r) return fail(r.error().message);
+  const int frames = o.frames > 0 ? std::min(o.frames, in->path.frames) : in->path.frames;
+  Image<Rgba8> img;
+  json fr = json::array();
+  std::vector<double> ms;
+  Stopwatch progress, all;
+  for (int i = 0; i < frames; ++i) {
+    keyframe::RenderStats st;
+    if (auto s = (*r)->renderColour(in->path.cameraAt(i), img, &st); !s) return fail(s.error().message);
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.png", i);
+    if (auto s = writePng(outDir + "/" + name, img); !s) return fail(s.error().message);
+    fr.push_back({{"index", i}, {"ms", st.drawMs + st.readbackMs}, {"draw_ms", st.drawMs},
+                  {"readback_ms", st.readbackMs}, {"meshes_drawn", st.meshesDrawn},
+                  {"triangles_drawn", st.trianglesDrawn}});
+    ms.push_back(st.drawMs + st.readbackMs);
+    if (progress.ms() > 1000 || i + 1 == frames) {
+      progress.restart();
+      std::fprintf(stderr, "\rrender: frame %d/%d, ETA %.0f s   %s", i + 1, frames,
+                   all.ms() / 1000.0 / (i + 1) * (frames - i - 1), i + 1 == frames ? "\n" : "");
+    }
+  }
+  json report = {{"frames", fr},
+                 {"summary",
+                  {{"scene", {{"name", in->scene.name}, {"triangles", in->scene.triangleCount()}}},
+                   {"resolution", {in->path.width, in->path.height}},
+                   {"depth_mode", o.depth},
+                   {"ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
+                   {"machine", machineInfo(in->context->renderer(), in->context->version())}}}};
+  if (auto s = writeFileAtomic(outDir + "/render.json", report.dump(1)); !s) return fail(s.error().message);
+  std::printf("rendered %d frames of %s (%zu triangles) at %dx%d: median %.2f ms, p95 %.2f ms\n"
+              "frames and render.json in %s\n",
+              frames, in->scene.name.c_str(), in->scene.triangleCount(), in->path.width,
+              in->path.height, median(ms), percentile(ms, 95), outDir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
+      "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "
+      "keyframes is backward-warped from their level-of-detail quad meshes.\nUnits: distances "
+      "are the scene's; tau is in z' units of the 24-bit depth buffer (2^24 scale, eq. 2; the "
+      "paper uses 2^11 and 2^15); times in ms."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "hybridwalk 0.1");
+
+  // walk
+  Common walkC;
+  std::string walkOut = "out/walk", tauS = "2^11", criterion = "five-point", compose = "overlay",
+              texcoords = "projective";
+  double tauPx = 0;
+  bool noRef = false, saveFrames = false, quiet = false, noSky = false;
+  int strips = 4;
+  auto* walk = app.add_subcommand(
+      "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
+              "geometry renderer; writes report.json, strips and (optionally) frames");
+  addCommon(walk, walkC);
+  walk->add_option("--tau", tauS,
+                   "LOD threshold on |Δ²z'| in z' units (2^24 scale); '2^11' or '2048' form")
+      ->capture_default_str();
+  walk->add_option("--tau-px", tauPx,
+                   "Physical threshold instead of --tau: parallax error in pixels per scene unit "
+                   "of camera motion (same meaning indoors and out); 0 = use --tau")
+      ->check(CLI::NonNegativeNumber);
+  walk->add_option("--criterion", criterion,
+                   "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  walk->add_option("--compose", compose,
+                   "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
+                   "(per-pixel nearer of the two layers)")
+      ->check(CLI::IsMember({"overlay", "depth-merge"}))
+      ->capture_default_str();
+  walk->add_option("--texcoords", texcoords,
+                   "Warp texture mapping: projective (exact for planar quads) or affine "
+                   "(plain perspective-correct s,t; for comparison)")
+      ->check(CLI::IsMember({"projective", "affine"}))
+      ->capture_default_str();
+  walk->add_flag("--no-sky-backdrop", noSky,
+                 "Do not draw empty keyframe pixels (sky) as a backdrop at infinity; they then "
+                 "count as holes, as in the paper");
+  walk->add_flag("--no-reference", noRef,
+                 "Skip the geometry reference render (no PSNR/SSIM; faster)");
+  walk->add_flag("--save-frames", saveFrames, "Write every frame and hole mask as PNG");
+  walk->add_option("--strips", strips,
+                   "Number of reference|hybrid|diff×4|holes strips to write")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+  walk->add_option("--out", walkOut, "Output directory")->capture_default_str();
+  walk->add_flag("--quiet", quiet, "No progress line");
+
+  // render
+  Common renderC;
+  std::string renderOut = "out/render";
+  auto* render = app.add_subcommand(
+      "render", "Geometry renderer only: each frame of the path as PNG, plus render.json "
+                "with per-frame times and the scene's triangle count");
+  addCommon(render, renderC);
+  render->add_option("--out", renderOut, "Output directory")->capture_default_str();
+
+  // lod
+  Common lodC;
+  std::string lodOut = "overlay.png", lodTau = "2^11", lodCriterion = "five-point";
+  int lodFrame = 0;
+  auto* lod = app.add_subcommand(
+      "lod", "Build one keyframe's quad mesh and draw its leaves over it (paper Plate I-A); "
+             "writes OUT (PNG) and OUT with .json (stats)");
+  addCommon(lod, lodC);
+  lod->add_option("--frame", lodFrame, "Frame index on the path to use as the keyframe")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  lod->add_option("--tau", lodTau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->capture_default_str();
+  lod->add_option("--criterion", lodCriterion, "five-point or per-axis-max")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  lod->add_option("--out", lodOut, "Overlay PNG path")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitUsage;
+  }
+
+  if (render->parsed()) return runRender(renderC, renderOut);
+
+  if (lod->parsed()) {
+    keyframe::LodOptions lo;
+    if (!parseTau(lodTau, &lo.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + lodTau + "'");
+    keyframe::parseDeltaCriterion(lodCriterion.c_str(), &lo.criterion);
+    auto in = loadInputs(lodC);
+    if (!in) return fail(in.error().message);
+    if (lodFrame >= in->path.frames)
+      return fail("--frame: expected 0.." + std::to_string(in->path.frames - 1) + ", got " +
+                  std::to_string(lodFrame));
+    keyframe::RenderOptions ropt;
+    ropt.depthMode = depthModeOf(lodC.depth);
+    auto r = keyframe::GeometryRenderer::create(in->scene, ropt);
+    if (!r) return fail(r.error().message);
+    keyframe::Keyframe kf;
+    if (auto s = (*r)->renderKeyframe(in->path.cameraAt(lodFrame), kf); !s) return fail(s.error().message);
+    keyframe::QuadMesh mesh;
+    keyframe::LodBuilder builder;
+    if (auto s = builder.build(kf, lo, &mesh); !s) return fail(s.error().message);
+    const auto parent = std::filesystem::path(lodOut).parent_path();
+    if (!parent.empty())
+      if (auto s = ensureWritableDir(parent.string()); !s) return fail(s.error().message);
+    if (auto s = writePng(lodOut, keyframe::drawQuadOverlay(kf.colour, mesh)); !s) return fail(s.error().message);
+    const auto& st = mesh.stats;
+    json j = {{"scene", {{"name", in->scene.name}, {"triangles", in->scene.triangleCount()}}},
+              {"frame", lodFrame},
+              {"resolution", {kf.colour.width(), kf.colour.height()}},
+              {"tau", lo.tau},
+              {"criterion", lodCriterion},
+              {"depth_mode", lodC.depth},
+              {"quads", st.quads},
+              {"one_pixel_leaves", st.onePixelLeaves},
+              {"empty_pixels", st.emptyPixels},
+              {"clamped_corners", st.clampedCorners},
+              {"ms", {{"delta", st.deltaMs}, {"subdivide", st.subdivideMs}, {"corners", st.cornersMs},
+                      {"total", st.deltaMs + st.subdivideMs + st.cornersMs}}}};
+    const std::string jsonPath = std::filesystem::path(lodOut).replace_extension(".json").string();
+    if (auto s = writeFileAtomic(jsonPath, j.dump(1)); !s) return fail(s.error().message);
+    std::printf("%d quads (%d one-pixel leaves) at tau %g in %.2f ms; overlay %s, stats %s\n",
+                st.quads, st.onePixelLeaves, lo.tau, st.deltaMs + st.subdivideMs + st.cornersMs,
+                lodOut.c_str(), jsonPath.c_str());
+    return 0;
+  }
+
+  // walk
+  bench::WalkOptions wo;
+  if (!parseTau(tauS, &wo.lod.tau))
+    return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + tauS + "'");
+  wo.lod.tauParallaxPx = tauPx;
+  keyframe::parseDeltaCriterion(criterion.c_str(), &wo.lod.criterion);
+  gapfill::parseComposeMode(compose.c_str(), &wo.compose.mode);
+  wo.warp.texcoords = texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
+  wo.warp.skyBackdrop = !noSky;
+  wo.depthMode = depthModeOf(walkC.depth);
+  wo.reference = !noRef;
+  wo.saveFrames = saveFrames;
+  wo.strips = strips;
+  wo.maxFrames = walkC.frames;
+  wo.outDir = walkOut;
+  wo.progress = !quiet;
+  auto in = loadInputs(walkC);
+  if (!in) return fail(in.error().message);
+  wo.glRenderer = in->context->renderer();
+  wo.glVersion = in->context->version();
+  auto res = bench::runWalk(in->scene, walkC.scene, in->path, wo);
+  if (!res) return fail(res.error().message);
+  const json& s = res->report["summary"];
+  auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
+  std::printf(
+      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes), tau %s, %s\n"
+      "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
+      "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
+      "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
+      "report: %s/report.json\n",
+      walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
+      s["frames"].get<int>(), s["keyframes"].get<int>(), tauS.c_str(),
+      s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
+      num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
+      100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),
+      num(s["in_between_ms"]["median"]), num(s["in_between_ms"]["p95"]),
+      num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]), walkOut.c_str());
+  return 0;
+}

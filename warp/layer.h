@@ -7,10 +7,15 @@
 
 namespace hw::warp {
 
+// eyeZ of pixels filled by the sky backdrop (points at infinity), kept
+// finite so that no buffer holds Inf.
+constexpr float kSkyEyeZ = 1.0e30f;
+
 struct Layer {
   Image<Rgba8> colour;          // row 0 = top
   Image<std::uint8_t> coverage; // 1 where a quad covers the pixel
-  Image<float> eyeZ;            // distance along the current camera's W; 0 where not covered
+  Image<float> eyeZ;            // distance along the current camera's W; 0 where not
+                                // covered, kSkyEyeZ for the sky backdrop
 };
 
 }  // namespace hw::warp

@@ -1,0 +1,286 @@
+#include "bench/walk.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "core/file_io.h"
+#include "core/machine.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "keyframe/keyframe_cache.h"
+
+namespace hw::bench {
+namespace {
+
+using nlohmann::json;
+
+json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+std::string frameName(int i) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%04d.png", i);
+  return buf;
+}
+
+json stats(const std::vector<double>& v) {
+  return {{"median", finiteOrNull(median(v))},
+          {"p5", finiteOrNull(percentile(v, 5))},
+          {"p95", finiteOrNull(percentile(v, 95))},
+          {"min", finiteOrNull(percentile(v, 0))},
+          {"max", finiteOrNull(percentile(v, 100))},
+          {"count", v.size()}};
+}
+
+class Progress {
+ public:
+  Progress(bool on, int total) : on_(on), total_(total) {}
+  void update(int done) {
+    if (!on_ || (sinceLast_.ms() < 1000 && done < total_)) return;
+    sinceLast_.restart();
+    const double el = all_.ms() / 1000.0;
+    const double eta = done > 0 ? el / done * (total_ - done) : 0;
+    std::fprintf(stderr, "\rwalk: frame %d/%d (%3.0f%%) elapsed %.0f s, ETA %.0f s   ", done,
+                 total_, 100.0 * done / total_, el, eta);
+    if (done >= total_) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+
+ private:
+  bool on_;
+  int total_;
+  Stopwatch all_, sinceLast_;
+};
+
+}  // namespace
+
+Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
+                           const scenes::CameraPath& path, const WalkOptions& opt) {
+  const int frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
+  const bool writing = !opt.outDir.empty();
+  if (writing) {
+    HW_TRY(ensureWritableDir(opt.outDir));
+    if (opt.saveFrames) {
+      HW_TRY(ensureWritableDir(opt.outDir + "/frames"));
+      HW_TRY(ensureWritableDir(opt.outDir + "/holes"));
+    }
+  }
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = opt.depthMode;
+  auto rendererR = keyframe::GeometryRenderer::create(scene, ropt);
+  if (!rendererR) return rendererR.error();
+  auto& renderer = **rendererR;
+  // The reference uses the same renderer settings: the geometry image at the
+  // same camera (DESIGN.md "What is measured").
+  auto warperR = warp::Warper::create(opt.warp);
+  if (!warperR) return warperR.error();
+  auto& warper = **warperR;
+
+  keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery};
+  keyframe::KeyframeCache cache(renderer, opt.lod, [&](int i) { return path.cameraAt(i); });
+  std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
+  std::map<int, warp::WarpStats> uploadStats;
+
+  warp::Layer layerA, layerB;
+  gapfill::Frame frame, previous;
+  bool havePrevious = false;
+  Image<Rgba8> reference;
+  json framesJson = json::array();
+  std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
+      keyframeMs, quadsPerKeyframe, warpMs, composeMs;
+  Progress progress(opt.progress, frames);
+
+  // Strip frames: spread over the in-between frames.
+  std::vector<int> inBetween;
+  for (int i = 0; i < frames; ++i)
+    if (!schedule.isKeyframe(i)) inBetween.push_back(i);
+  std::vector<int> stripFrames;
+  for (int s = 0; s < opt.strips && !inBetween.empty(); ++s) {
+    const std::size_t k = (2 * s + 1) * inBetween.size() / (2 * static_cast<std::size_t>(opt.strips));
+    if (stripFrames.empty() || stripFrames.back() != inBetween[k]) stripFrames.push_back(inBetween[k]);
+  }
+  std::vector<Image<Rgba8>> strips;
+  std::vector<json> stripInfo;
+
+  auto getSource = [&](int k, const keyframe::CachedKeyframe** kfOut) -> Status {
+    auto kf = cache.get(k);
+    if (!kf) return kf.error();
+    *kfOut = *kf;
+    if (!sources.count(k)) {
+      warp::WarpStats ws;
+      auto src = warper.upload((*kf)->keyframe, (*kf)->mesh, &ws);
+      if (!src) return src.error();
+      sources[k] = std::move(*src);
+      uploadStats[k] = ws;
+      keyframeMs.push_back((*kf)->renderMs + (*kf)->mesh.stats.deltaMs +
+                           (*kf)->mesh.stats.subdivideMs + (*kf)->mesh.stats.cornersMs + ws.uploadMs);
+      quadsPerKeyframe.push_back(static_cast<double>((*kf)->mesh.stats.quads));
+    }
+    return {};
+  };
+
+  for (int i = 0; i < frames; ++i) {
+    const Camera cam = path.cameraAt(i);
+    json fj;
+    fj["index"] = i;
+    const auto [k0, k1] = schedule.bracket(i);
+    json ms = json::object();
+    double refMs = std::nan("");
+    if (opt.reference) {
+      keyframe::RenderStats rs;
+      HW_TRY(renderer.renderColour(cam, reference, &rs));
+      refMs = rs.drawMs + rs.readbackMs;
+      referenceMs.push_back(refMs);
+    }
+    if (k0 == k1) {
+      // Keyframe: the geometry frame itself is displayed.
+      const keyframe::CachedKeyframe* kf = nullptr;
+      HW_TRY(getSource(k0, &kf));
+      fj["is_keyframe"] = true;
+      fj["keyframes"] = {k0};
+      fj["quads"] = kf->mesh.stats.quads;
+      const auto& st = kf->mesh.stats;
+      ms = {{"keyframe_render", kf->renderMs}, {"delta", st.deltaMs},
+            {"subdivide", st.subdivideMs},     {"corners", st.cornersMs},
+            {"upload", uploadStats[k0].uploadMs}};
+      ms["total"] = kf->renderMs + st.deltaMs + st.subdivideMs + st.cornersMs + uploadStats[k0].uploadMs;
+      const Image<Rgba8>& shown = kf->keyframe.colour;
+      if (frame.colour.width() != cam.width || frame.colour.height() != cam.height) {
+        frame.colour.resize(cam.width, cam.height);
+        frame.holesBefore.resize(cam.width, cam.height);
+        frame.valid.resize(cam.width, cam.height);
+      }
+      frame.colour = shown;
+      frame.holesBefore.fill(0);
+      frame.valid.fill(1);
+      frame.holeFractionBefore = frame.holeFractionAfter = 0;
+      fj["holes_before_fallback"] = 0.0;
+      fj["holes_after_fallback"] = 0.0;
+      if (opt.reference) {
+        fj["psnr"] = finiteOrNull(psnr(shown, reference));  // identical: +inf → null
+        fj["ssim"] = ssim(shown, reference);
+      } else {
+        fj["psnr"] = nullptr;
+        fj["ssim"] = nullptr;
+      }
+    } else {
+      const keyframe::CachedKeyframe* kfa = nullptr;
+      const keyframe::CachedKeyframe* kfb = nullptr;
+      HW_TRY(getSource(k0, &kfa));
+      HW_TRY(getSource(k1, &kfb));
+      // The keyframe whose eye is nearer is the foreground (paper §2.2 (i)).
+      const int fgPick = gapfill::chooseForeground(cam.eye, kfa->keyframe.camera.eye,
+                                                   kfb->keyframe.camera.eye);
+      const int fgFrame = fgPick == 0 ? k0 : k1, bgFrame = fgPick == 0 ? k1 : k0;
+      Stopwatch total;
+      warp::WarpStats wa, wb;
+      HW_TRY(warper.warp(*sources[fgFrame], cam, layerA, &wa));
+      HW_TRY(warper.warp(*sources[bgFrame], cam, layerB, &wb));
+      Stopwatch sc;
+      gapfill::compose(layerA, &layerB, havePrevious ? &previous : nullptr, opt.compose, frame);
+      const double composeT = sc.ms();
+      const double totalMs = total.ms();
+      fj["is_keyframe"] = false;
+      fj["keyframes"] = {k0, k1};
+      fj["foreground"] = fgFrame;
+      fj["quads"] = wa.quads + wb.quads;
+      ms = {{"warp_a", wa.drawMs + wa.readbackMs}, {"warp_b", wb.drawMs + wb.readbackMs},
+            {"warp_a_draw", wa.drawMs},           {"warp_b_draw", wb.drawMs},
+            {"readback", wa.readbackMs + wb.readbackMs},
+            {"compose", composeT},                {"total", totalMs}};
+      fj["holes_before_fallback"] = frame.holeFractionBefore;
+      fj["holes_after_fallback"] = frame.holeFractionAfter;
+      holesBefore.push_back(frame.holeFractionBefore);
+      holesAfter.push_back(frame.holeFractionAfter);
+      inBetweenMs.push_back(totalMs);
+      warpMs.push_back(wa.drawMs + wa.readbackMs + wb.drawMs + wb.readbackMs);
+      composeMs.push_back(composeT);
+      if (opt.reference) {
+        const double p = psnr(frame.colour, reference);
+        const double s = ssim(frame.colour, reference);
+        const ChannelMse m = channelMse(frame.colour, reference);
+        fj["psnr"] = finiteOrNull(p);
+        fj["ssim"] = s;
+        fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
+        psnrs.push_back(std::isfinite(p) ? p : 99.0);
+        ssims.push_back(s);
+      } else {
+        fj["psnr"] = nullptr;
+        fj["ssim"] = nullptr;
+      }
+      if (writing && opt.reference &&
+          std::find(stripFrames.begin(), stripFrames.end(), i) != stripFrames.end()) {
+        const Image<Rgba8> diff = diffImage(frame.colour, reference, 4);
+        const Image<Rgba8> holes = maskToImage(frame.holesBefore, Rgba8{255, 40, 40, 255},
+                                               Rgba8{30, 30, 30, 255});
+        strips.push_back(hstack({&reference, &frame.colour, &diff, &holes}, 4,
+                                Rgba8{255, 255, 255, 255}));
+        stripInfo.push_back({{"frame", i}, {"psnr", fj["psnr"]}, {"ssim", fj["ssim"]},
+                             {"holes_before_fallback", frame.holeFractionBefore}});
+      }
+    }
+    fj["reference_ms"] = opt.reference ? json(refMs) : json(nullptr);
+    fj["ms"] = ms;
+    if (writing && opt.saveFrames) {
+      HW_TRY(writePng(opt.outDir + "/frames/" + frameName(i), frame.colour));
+      HW_TRY(writePng(opt.outDir + "/holes/" + frameName(i),
+                      maskToImage(frame.holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{0, 0, 0, 255})));
+    }
+    framesJson.push_back(std::move(fj));
+    std::swap(previous, frame);
+    havePrevious = true;
+    // Drop GPU copies of keyframes no later frame can use.
+    for (auto it = sources.begin(); it != sources.end();)
+      it = it->first < k0 ? sources.erase(it) : std::next(it);
+    progress.update(i + 1);
+  }
+
+  std::vector<double> speedup;
+  for (const json& f : framesJson)
+    if (!f["is_keyframe"].get<bool>() && f["reference_ms"].is_number())
+      speedup.push_back(f["reference_ms"].get<double>() / f["ms"]["total"].get<double>());
+
+  json summary;
+  summary["scene"] = {{"name", sceneLabel}, {"triangles", scene.triangleCount()}};
+  summary["resolution"] = {path.width, path.height};
+  summary["frames"] = frames;
+  summary["keyframes"] = static_cast<int>(cache.builds());
+  summary["in_between_frames"] = static_cast<int>(inBetween.size());
+  summary["keyframe_every"] = path.keyframeEvery;
+  summary["tau"] = opt.lod.tauParallaxPx > 0 ? json(nullptr) : json(opt.lod.tau);
+  summary["tau_parallax_px"] = opt.lod.tauParallaxPx;
+  summary["criterion"] = keyframe::deltaCriterionName(opt.lod.criterion);
+  summary["depth_mode"] = depthModeName(opt.depthMode);
+  summary["compose_mode"] = gapfill::composeModeName(opt.compose.mode);
+  summary["texcoords"] = warp::texcoordModeName(opt.warp.texcoords);
+  summary["sky_backdrop"] = opt.warp.skyBackdrop;
+  summary["psnr"] = stats(psnrs);
+  summary["ssim"] = stats(ssims);
+  summary["holes_before_fallback"] = stats(holesBefore);
+  summary["holes_after_fallback"] = stats(holesAfter);
+  summary["quads_per_keyframe"] = stats(quadsPerKeyframe);
+  summary["in_between_ms"] = stats(inBetweenMs);
+  summary["warp_ms"] = stats(warpMs);
+  summary["compose_ms"] = stats(composeMs);
+  summary["reference_ms"] = stats(referenceMs);
+  summary["keyframe_build_ms"] = stats(keyframeMs);
+  summary["speedup_reference_over_in_between"] = stats(speedup);
+  summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
+  summary["strips"] = stripInfo;
+
+  WalkResult result;
+  result.report = {{"frames", framesJson}, {"summary", summary}};
+  if (writing) {
+    for (std::size_t s = 0; s < strips.size(); ++s)
+      HW_TRY(writePng(opt.outDir + "/strip_" + std::to_string(stripInfo[s]["frame"].get<int>()) +
+                          ".png",
+                      strips[s]));
+    HW_TRY(writeFileAtomic(opt.outDir + "/report.json", result.report.dump(1)));
+  }
+  return result;
+}
+
+}  // namespace hw::bench

@@ -1,0 +1,46 @@
+#pragma once
+// A hybrid walkthrough (the main job): keyframes every N frames drawn by the
+// geometry renderer and meshed by the Δ²z' LOD builder; every other frame
+// backward-warped from its two bracketing keyframes and composed with the
+// previous frame (Zheng et al. 1999 §2); each frame measured against the
+// geometry renderer at the same camera. Writes DESIGN.md's walk report.
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+#include "gapfill/compose.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/lod_builder.h"
+#include "scenes/camera_path.h"
+#include "scenes/scene.h"
+#include "warp/warper.h"
+
+namespace hw::bench {
+
+struct WalkOptions {
+  keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
+  DepthMode depthMode = DepthMode::Fixed24;     // keyframe depth buffer
+  gapfill::ComposeOptions compose;              // paper's overlay or depth merge
+  warp::WarpOptions warp;                       // texcoords, sky backdrop
+  bool reference = true;                        // render and compare the geometry frame
+  int maxFrames = 0;                            // 0 = all frames of the path
+  // Output (all optional; empty outDir = write nothing).
+  std::string outDir;
+  bool saveFrames = false;  // frames/NNNN.png and holes/NNNN.png
+  int strips = 4;           // side-by-side strips of this many in-between frames
+  bool progress = true;     // a progress line on stderr
+  std::string glRenderer, glVersion;  // recorded in the report's machine block
+};
+
+struct WalkResult {
+  nlohmann::json report;  // {"frames": [...], "summary": {...}}
+};
+
+// Runs the walk on an already loaded scene and path. A GL context must be
+// current. Errors (GL, output) come back as Error; nothing half-written.
+Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
+                           const scenes::CameraPath& path, const WalkOptions& options);
+
+}  // namespace hw::bench

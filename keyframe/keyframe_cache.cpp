@@ -1,0 +1,52 @@
+#include "keyframe/keyframe_cache.h"
+
+#include <algorithm>
+
+#include "core/check.h"
+#include "core/timer.h"
+
+namespace hw::keyframe {
+
+bool KeyframeSchedule::isKeyframe(int frame) const {
+  return frame % keyframeEvery == 0 || frame == frames - 1;
+}
+
+std::pair<int, int> KeyframeSchedule::bracket(int frame) const {
+  HW_CHECK(frame >= 0 && frame < frames);
+  if (isKeyframe(frame)) return {frame, frame};
+  const int k0 = frame / keyframeEvery * keyframeEvery;
+  return {k0, std::min(k0 + keyframeEvery, frames - 1)};
+}
+
+KeyframeCache::KeyframeCache(GeometryRenderer& renderer, LodOptions lod,
+                             std::function<Camera(int)> cameraOf, std::size_t capacity)
+    : renderer_(renderer), lod_(lod), cameraOf_(std::move(cameraOf)), capacity_(capacity) {
+  HW_CHECK_GE(capacity_, std::size_t{2});
+}
+
+Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (entries_[i]->frame != frame) continue;
+    std::rotate(entries_.begin() + static_cast<std::ptrdiff_t>(i),
+                entries_.begin() + static_cast<std::ptrdiff_t>(i) + 1, entries_.end());
+    if (built) *built = false;
+    return static_cast<const CachedKeyframe*>(entries_.back().get());
+  }
+  std::unique_ptr<CachedKeyframe> e;
+  if (entries_.size() >= capacity_) {  // reuse the least recently used entry's buffers
+    e = std::move(entries_.front());
+    entries_.erase(entries_.begin());
+  } else {
+    e = std::make_unique<CachedKeyframe>();
+  }
+  e->frame = frame;
+  HW_TRY(renderer_.renderKeyframe(cameraOf_(frame), e->keyframe, &e->render));
+  e->renderMs = e->render.drawMs + e->render.readbackMs;
+  HW_TRY(builder_.build(e->keyframe, lod_, &e->mesh));
+  ++builds_;
+  entries_.push_back(std::move(e));
+  if (built) *built = true;
+  return static_cast<const CachedKeyframe*>(entries_.back().get());
+}
+
+}  // namespace hw::keyframe

@@ -1,0 +1,56 @@
+#pragma once
+// KeyframeCache: keyframes of a camera path and their quad meshes, built once
+// on first use and kept while they can still bracket a frame (Zheng et al.
+// 1999 §2: every in-between frame uses the two keyframes around it).
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/result.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/quad_mesh.h"
+
+namespace hw::keyframe {
+
+// Keyframe schedule: every `keyframeEvery`-th frame, plus the last frame so
+// that every in-between frame has a keyframe on both sides.
+struct KeyframeSchedule {
+  int frames = 1;
+  int keyframeEvery = 1;
+  bool isKeyframe(int frame) const;
+  // The keyframes bracketing `frame` (equal when `frame` is a keyframe).
+  std::pair<int, int> bracket(int frame) const;
+};
+
+struct CachedKeyframe {
+  int frame = 0;
+  Keyframe keyframe;
+  QuadMesh mesh;
+  RenderStats render;
+  double renderMs = 0;  // geometry draw + readback
+};
+
+class KeyframeCache {
+ public:
+  // `renderer` must outlive the cache. capacity ≥ 2.
+  KeyframeCache(GeometryRenderer& renderer, LodOptions lod, std::function<Camera(int)> cameraOf,
+                std::size_t capacity = 3);
+  // The keyframe of `frame`, built if not cached. *built tells whether it was.
+  Result<const CachedKeyframe*> get(int frame, bool* built = nullptr);
+  std::size_t builds() const { return builds_; }
+
+ private:
+  GeometryRenderer& renderer_;
+  LodOptions lod_;
+  std::function<Camera(int)> cameraOf_;
+  std::size_t capacity_;
+  LodBuilder builder_;
+  std::vector<std::unique_ptr<CachedKeyframe>> entries_;  // most recently used last
+  std::size_t builds_ = 0;
+};
+
+}  // namespace hw::keyframe

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# A short real walk: report.json carries the DESIGN.md fields, strips exist,
+# and saved frames are non-trivial PNGs. Usage: walk_report.sh HYBRIDWALK SOURCE_DIR
+set -u
+hw=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+check() {  # check NAME COMMAND...
+  local name=$1; shift
+  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
+}
+"$hw" walk --scene indoor:20k --frames 12 --save-frames --strips 2 --out "$tmp/w" --quiet >"$tmp/stdout" 2>"$tmp/stderr"
+code=$?
+check "walk exits 0 (stderr: $(tail -3 "$tmp/stderr"))" test $code -eq 0
+r="$tmp/w/report.json"
+check report-exists test -s "$r"
+for key in '"frames"' '"summary"' '"index"' '"is_keyframe"' '"psnr"' '"ssim"' \
+           '"holes_before_fallback"' '"holes_after_fallback"' '"quads"' '"ms"' '"total"' \
+           '"reference_ms"' '"triangles"' '"resolution"' '"tau"' '"depth_mode"' '"machine"' \
+           '"median"' '"p95"'; do
+  check "report has $key" grep -q "$key" "$r"
+done
+check "12 frames saved" test "$(ls "$tmp/w/frames" | wc -l)" -eq 12
+check "12 hole masks saved" test "$(ls "$tmp/w/holes" | wc -l)" -eq 12
+check "2 strips" test "$(ls "$tmp/w"/strip_*.png | wc -l)" -eq 2
+check "no temporary files left" test -z "$(find "$tmp/w" -name '*.tmp-*')"
+check "stdout summary" grep -q "in-between PSNR" "$tmp/stdout"
+# render and lod commands
+"$hw" render --scene outdoor:20k --frames 3 --out "$tmp/r" >"$tmp/rout" 2>&1
+check "render exits 0" test $? -eq 0
+check "render wrote 3 frames" test "$(ls "$tmp/r"/*.png | wc -l)" -eq 3
+check "render.json" grep -q '"triangles"' "$tmp/r/render.json"
+"$hw" lod --scene indoor:20k --frame 0 --tau 2^11 --out "$tmp/l/overlay.png" >"$tmp/lout" 2>&1
+check "lod exits 0" test $? -eq 0
+check "lod overlay" test -s "$tmp/l/overlay.png"
+check "lod stats" grep -q '"quads"' "$tmp/l/overlay.json"
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]

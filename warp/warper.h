@@ -1,0 +1,66 @@
+#pragma once
+// Backward warping (Zheng et al. 1999 §2.1): a keyframe's quad mesh, textured
+// with the keyframe image, drawn from a new camera into a Layer. Texture
+// coordinates are projective — each corner carries (u·q, v·q, q), q its depth in
+// the keyframe camera, divided per fragment (textureProj) — which reproduces
+// Q = H_{E'}⁻¹ H_E P exactly on planar quads (DESIGN.md "Backward warp").
+#include <memory>
+
+#include "core/camera.h"
+#include "core/result.h"
+#include "keyframe/keyframe.h"
+#include "keyframe/quad_mesh.h"
+#include "warp/layer.h"
+
+namespace hw::warp {
+
+enum class TexcoordMode {
+  Projective,  // (u·q, v·q, q): exact for planar quads (default)
+  Affine,      // plain (u, v) with perspective-correct interpolation (for comparison)
+};
+const char* texcoordModeName(TexcoordMode m);
+
+struct WarpOptions {
+  TexcoordMode texcoords = TexcoordMode::Projective;
+  // Far plane at infinity for layers, so half-pixel-expanded horizon corners
+  // beyond the keyframe's far plane are not clipped (DESIGN.md).
+  bool infiniteFar = true;
+  // Pixels whose ray hits nothing in the keyframe (sky) are drawn first as a
+  // backdrop at infinity: a target pixel whose direction falls on an empty
+  // keyframe pixel takes that pixel. Points at infinity move only with camera
+  // rotation, so this is exact for them. Off: the paper's rule, where empty
+  // pixels belong to no quad and become holes.
+  bool skyBackdrop = true;
+};
+
+struct WarpStats {
+  double uploadMs = 0;    // mesh build + buffer/texture upload
+  double drawMs = 0;      // draw + glFinish
+  double readbackMs = 0;  // colour + depth readback
+  int quads = 0;
+};
+
+// GPU copy of one keyframe (texture + quad vertex buffer).
+class WarpSource {
+ public:
+  virtual ~WarpSource() = default;
+  virtual const Camera& keyframeCamera() const = 0;
+  virtual int quadCount() const = 0;
+};
+
+class Warper {
+ public:
+  virtual ~Warper() = default;
+  // Needs a current GL context.
+  static Result<std::unique_ptr<Warper>> create(const WarpOptions& options = {});
+
+  virtual Result<std::unique_ptr<WarpSource>> upload(const keyframe::Keyframe& keyframe,
+                                                     const keyframe::QuadMesh& mesh,
+                                                     WarpStats* stats = nullptr) = 0;
+  // Draws `source` from `target` into `out` (resized to the target's size).
+  virtual Status warp(const WarpSource& source, const Camera& target, Layer& out,
+                      WarpStats* stats = nullptr) = 0;
+  virtual const WarpOptions& options() const = 0;
+};
+
+}  // namespace hw::warp
