@@ -25,11 +25,10 @@ struct WarpOptions {
   // Far plane at infinity for layers, so half-pixel-expanded horizon corners
   // beyond the keyframe's far plane are not clipped (DESIGN.md).
   bool infiniteFar = true;
-  // Pixels whose ray hits nothing in the keyframe (sky) are drawn first as a
-  // backdrop at infinity: a target pixel whose direction falls on an empty
-  // keyframe pixel takes that pixel. Points at infinity move only with camera
-  // rotation, so this is exact for them. Off: the paper's rule, where empty
-  // pixels belong to no quad and become holes.
+  // Empty keyframe pixels (nothing drawn: sky) are drawn first, as
+  // rectangles at infinity (warp/sky_rects.h) behind every quad: points at
+  // infinity move only with camera rotation, so this is exact for them. Off:
+  // the paper's rule, where empty pixels belong to no quad and become holes.
   bool skyBackdrop = true;
 };
 

@@ -9,6 +9,7 @@
 #include "core/gl/gl_api.h"
 #include "core/gl/shader.h"
 #include "core/timer.h"
+#include "warp/sky_rects.h"
 
 namespace hw::warp {
 
@@ -19,14 +20,15 @@ const char* texcoordModeName(TexcoordMode m) {
 namespace {
 
 constexpr const char* kVertex = R"(#version 450 core
-layout(location = 0) in vec3 aPos;
+// Quads: w = 1. Sky rectangles: directions with w = 0 (points at infinity).
+layout(location = 0) in vec4 aPos;
 layout(location = 1) in vec3 aTex;  // (u·q, v·q, q) or (u, v, 1), u,v normalised
 uniform mat4 uViewProj;
 uniform mat4 uView;
 out vec3 vTex;
 out float vEyeZ;
 void main() {
-  vec4 p = vec4(aPos, 1.0);
+  vec4 p = aPos;
   vTex = aTex;
   vEyeZ = -(uView * p).z;
   gl_Position = uViewProj * p;
@@ -37,52 +39,17 @@ constexpr const char* kFragment = R"(#version 450 core
 in vec3 vTex;
 in float vEyeZ;
 uniform sampler2D uKey;
+uniform float uSkyEyeZ;  // > 0 while drawing sky rectangles
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out float oEyeZ;
 void main() {
   oColour = vec4(textureProj(uKey, vTex).rgb, 1.0);
-  oEyeZ = vEyeZ;
-}
-)";
-
-// Backdrop at infinity: a full-screen triangle; each target pixel's ray is
-// projected into the keyframe camera, and where it lands on an empty keyframe
-// pixel (alpha 0) that pixel's colour is taken. eyeZ gets kSkyEyeZ.
-constexpr const char* kSkyVertex = R"(#version 450 core
-void main() {
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kSkyFragment = R"(#version 450 core
-uniform sampler2D uKey;
-uniform vec3 uTU, uTV, uTW;   // target camera axes
-uniform vec4 uTIntr;          // target fx, fy, cx, cy
-uniform float uTHeight;
-uniform vec3 uKU, uKV, uKW;   // keyframe camera axes
-uniform vec4 uKIntr;          // keyframe fx, fy, cx, cy
-uniform vec2 uKSize;
-uniform float uSkyZ;
-layout(location = 0) out vec4 oColour;
-layout(location = 1) out float oEyeZ;
-void main() {
-  float u = gl_FragCoord.x, v = uTHeight - gl_FragCoord.y;
-  vec3 d = uTW + (u - uTIntr.z) / uTIntr.x * uTU - (v - uTIntr.w) / uTIntr.y * uTV;
-  float zk = dot(d, uKW);
-  if (zk <= 0.0) discard;
-  float ku = uKIntr.z + uKIntr.x * dot(d, uKU) / zk;
-  float kv = uKIntr.w - uKIntr.y * dot(d, uKV) / zk;
-  if (ku < 0.0 || kv < 0.0 || ku >= uKSize.x || kv >= uKSize.y) discard;
-  vec4 c = texelFetch(uKey, ivec2(ku, kv), 0);
-  if (c.a > 0.5) discard;  // covered keyframe pixel: not sky
-  oColour = vec4(c.rgb, 1.0);
-  oEyeZ = uSkyZ;
+  oEyeZ = uSkyEyeZ > 0.0 ? uSkyEyeZ : vEyeZ;
 }
 )";
 
 struct WarpVertex {
-  float pos[3];
+  float pos[4];
   float tex[3];
 };
 
@@ -98,6 +65,7 @@ class GlWarpSource final : public WarpSource {
 
   Camera camera;
   int quads = 0;
+  int skyRects = 0;  // drawn after the quads' vertices in the same buffer
   GLuint vao = 0, vbo = 0, tex = 0;
 };
 
@@ -111,10 +79,7 @@ class GlWarper final : public Warper {
     uViewProj_ = program_.uniform("uViewProj");
     uView_ = program_.uniform("uView");
     uKey_ = program_.uniform("uKey");
-    auto sky = gl::Program::build("warp-sky", kSkyVertex, kSkyFragment);
-    if (!sky) return sky.error();
-    sky_ = std::move(*sky);
-    glGenVertexArrays(1, &emptyVao_);
+    uSkyEyeZ_ = program_.uniform("uSkyEyeZ");
     return gl::checkGlError("Warper::create");
   }
 
@@ -130,18 +95,37 @@ class GlWarper final : public Warper {
     src->camera = kf.camera;
     src->quads = static_cast<int>(mesh.quads.size());
     const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
-    scratch_.resize(mesh.quads.size() * 6);
+    if (options_.skyBackdrop) emptyRects(kf.covered, skyRects_);
+    else skyRects_.clear();
+    src->skyRects = static_cast<int>(skyRects_.size());
+    scratch_.resize((mesh.quads.size() + skyRects_.size()) * 6);
     WarpVertex* out = scratch_.data();
     static constexpr int kTri[6] = {0, 1, 2, 0, 2, 3};
     for (const keyframe::Quad& q : mesh.quads) {
       for (int k : kTri) {
         WarpVertex& v = *out++;
         for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(q.world[k][c]);
+        v.pos[3] = 1.0f;
         const double s = q.pixel[k].x * invW, t = q.pixel[k].y * invH;
         const double w = options_.texcoords == TexcoordMode::Projective ? q.eyeZ[k] : 1.0;
         v.tex[0] = static_cast<float>(s * w);
         v.tex[1] = static_cast<float>(t * w);
         v.tex[2] = static_cast<float>(w);
+      }
+    }
+    // Sky: each corner is the direction through that keyframe image point,
+    // scaled to depth 1 along W, so its projective texcoord is (s, t, 1).
+    for (const keyframe::PixelRect& r : skyRects_) {
+      const double us[4] = {double(r.x0), double(r.x1), double(r.x1), double(r.x0)};
+      const double vs[4] = {double(r.y0), double(r.y0), double(r.y1), double(r.y1)};
+      for (int k : kTri) {
+        WarpVertex& v = *out++;
+        const glm::dvec3 d = kf.camera.unproject(us[k], vs[k], 1.0) - kf.camera.eye;
+        for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(d[c]);
+        v.pos[3] = 0.0f;
+        v.tex[0] = static_cast<float>(us[k] * invW);
+        v.tex[1] = static_cast<float>(vs[k] * invH);
+        v.tex[2] = 1.0f;
       }
     }
     glGenVertexArrays(1, &src->vao);
@@ -151,25 +135,19 @@ class GlWarper final : public Warper {
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scratch_.size() * sizeof(WarpVertex)),
                  scratch_.data(), GL_STATIC_DRAW);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
                           reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
                           reinterpret_cast<void*>(offsetof(WarpVertex, tex)));
     glBindVertexArray(0);
 
-    // Alpha carries coverage (for the sky backdrop); quads use rgb only.
-    texScratch_.resize(kf.colour.size());
-    for (std::size_t i = 0; i < kf.colour.size(); ++i) {
-      texScratch_[i] = kf.colour.data()[i];
-      texScratch_[i].a = kf.covered.data()[i] ? 255 : 0;
-    }
     glGenTextures(1, &src->tex);
     glBindTexture(GL_TEXTURE_2D, src->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // Image row 0 (top) at t = 0, matching t = v / height above.
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kf.colour.width(), kf.colour.height(), 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, texScratch_.data());
+                 GL_UNSIGNED_BYTE, kf.colour.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -191,7 +169,6 @@ class GlWarper final : public Warper {
     fbo_.bindAndClear(0, 0, 0, 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, src.tex);
-    if (options_.skyBackdrop) drawSky(src.camera, target);
     const glm::mat4 vp(target.projectionMatrix(DepthMode::Fixed24, options_.infiniteFar) *
                        target.viewMatrix());
     const glm::mat4 view(target.viewMatrix());
@@ -202,6 +179,16 @@ class GlWarper final : public Warper {
     glDisable(GL_CULL_FACE);  // quads may face away from the new view
     glDisable(GL_BLEND);
     glBindVertexArray(src.vao);
+    if (src.skyRects > 0) {
+      // Sky first, behind everything: no depth test or write.
+      glDisable(GL_DEPTH_TEST);
+      glDepthMask(GL_FALSE);
+      glUniform1f(uSkyEyeZ_, kSkyEyeZ);
+      glDrawArrays(GL_TRIANGLES, src.quads * 6, src.skyRects * 6);
+      glEnable(GL_DEPTH_TEST);
+      glDepthMask(GL_TRUE);
+    }
+    glUniform1f(uSkyEyeZ_, 0.0f);
     glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
     glBindVertexArray(0);
     glFinish();
@@ -224,48 +211,11 @@ class GlWarper final : public Warper {
 
   const WarpOptions& options() const override { return options_; }
 
-  ~GlWarper() override {
-    if (emptyVao_) glDeleteVertexArrays(1, &emptyVao_);
-  }
-
  private:
-  void drawSky(const Camera& key, const Camera& target) {
-    sky_.use();
-    auto v3 = [&](const char* n, const glm::dvec3& v) {
-      glUniform3f(sky_.uniform(n), static_cast<float>(v.x), static_cast<float>(v.y),
-                  static_cast<float>(v.z));
-    };
-    auto intr = [&](const char* n, const Camera& c) {
-      glUniform4f(sky_.uniform(n), static_cast<float>(c.fx()), static_cast<float>(c.fy()),
-                  static_cast<float>(c.cx()), static_cast<float>(c.cy()));
-    };
-    v3("uTU", target.right);
-    v3("uTV", target.up);
-    v3("uTW", target.forward);
-    intr("uTIntr", target);
-    glUniform1f(sky_.uniform("uTHeight"), static_cast<float>(target.height));
-    v3("uKU", key.right);
-    v3("uKV", key.up);
-    v3("uKW", key.forward);
-    intr("uKIntr", key);
-    glUniform2f(sky_.uniform("uKSize"), static_cast<float>(key.width),
-                static_cast<float>(key.height));
-    glUniform1f(sky_.uniform("uSkyZ"), kSkyEyeZ);
-    glUniform1i(sky_.uniform("uKey"), 0);
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    glBindVertexArray(emptyVao_);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glEnable(GL_DEPTH_TEST);
-    glDepthMask(GL_TRUE);
-  }
-
-  gl::Program sky_;
-  GLuint emptyVao_ = 0;
-  std::vector<Rgba8> texScratch_;
+  std::vector<keyframe::PixelRect> skyRects_;
   WarpOptions options_;
   gl::Program program_;
-  int uViewProj_ = -1, uView_ = -1, uKey_ = -1;
+  int uViewProj_ = -1, uView_ = -1, uKey_ = -1, uSkyEyeZ_ = -1;
   std::vector<WarpVertex> scratch_;
   gl::Framebuffer fbo_;
 };
