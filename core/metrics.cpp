@@ -30,8 +30,7 @@ ChannelMse toMse(const SquaredSums& s) {
 // Exact integer sums of squared differences; weight 0/1 per pixel from the
 // mask (or 1 everywhere), branch-free so the row loop vectorises.
 template <bool kMasked>
-SquaredSums squaredSums(const Image<Rgba8>& a, const Image<Rgba8>& b,
-                        const std::uint8_t* mask) {
+SquaredSums squaredSums(const Image<Rgba8>& a, const Image<Rgba8>& b, const std::uint8_t* mask) {
   SquaredSums s;
   const Rgba8* pa = a.data();
   const Rgba8* pb = b.data();
@@ -52,6 +51,15 @@ SquaredSums squaredSums(const Image<Rgba8>& a, const Image<Rgba8>& b,
   s.b = sb;
   s.count = cnt;
   return s;
+}
+
+// Rec.601 luma minus `centre`, one row.
+void centredLumaRow(const Rgba8* __restrict px, int n, float centre, float* __restrict out) {
+  static_assert(sizeof(Rgba8) == 4);
+  const auto* p = reinterpret_cast<const unsigned char*>(px);  // R, G, B, A bytes
+  for (int x = 0; x < n; ++x) {
+    out[x] = 0.299f * p[4 * x] + 0.587f * p[4 * x + 1] + 0.114f * p[4 * x + 2] - centre;
+  }
 }
 
 ChannelMse nanMse() {
@@ -151,24 +159,24 @@ double ssim(const Image<Rgba8>& a, const Image<Rgba8>& b) {
     float* sxy = syy + w;
     const Rgba8* ra = a.data() + static_cast<std::size_t>(y) * w;
     const Rgba8* rb = b.data() + static_cast<std::size_t>(y) * w;
+    centredLumaRow(ra, w, kCentre, sx);
+    centredLumaRow(rb, w, kCentre, sy);
     for (int x = 0; x < w; ++x) {
-      const float la = 0.299f * ra[x].r + 0.587f * ra[x].g + 0.114f * ra[x].b - kCentre;
-      const float lb = 0.299f * rb[x].r + 0.587f * rb[x].g + 0.114f * rb[x].b - kCentre;
-      sx[x] = la;
-      sy[x] = lb;
-      sxx[x] = la * la;
-      syy[x] = lb * lb;
-      sxy[x] = la * lb;
+      sxx[x] = sx[x] * sx[x];
+      syy[x] = sy[x] * sy[x];
+      sxy[x] = sx[x] * sy[x];
     }
     const int slot = y % kSsimWindow;
     for (int q = 0; q < kQ; ++q) {
       const float* in = src.data() + static_cast<std::size_t>(q) * w;
       float* out = ringRow(q, slot);
-      for (int x = 0; x < outW; ++x) out[x] = g[0] * in[x];
-      for (int k = 1; k < kSsimWindow; ++k) {
+      // The window is symmetric: fold tap pairs k, 10 − k.
+      for (int x = 0; x < outW; ++x) out[x] = g[kR] * in[x + kR];
+      for (int k = 0; k < kR; ++k) {
         const float gk = g[k];
-        const float* ink = in + k;
-        for (int x = 0; x < outW; ++x) out[x] += gk * ink[x];
+        const float* lo = in + k;
+        const float* hi = in + (2 * kR - k);
+        for (int x = 0; x < outW; ++x) out[x] += gk * (lo[x] + hi[x]);
       }
     }
     if (y < 2 * kR) continue;
@@ -176,12 +184,13 @@ double ssim(const Image<Rgba8>& a, const Image<Rgba8>& b) {
     const int oy = y - 2 * kR;  // window rows oy .. y
     for (int q = 0; q < kQ; ++q) {
       float* out = acc.data() + static_cast<std::size_t>(q) * outW;
-      const float* in0 = ringRow(q, oy % kSsimWindow);
-      for (int x = 0; x < outW; ++x) out[x] = g[0] * in0[x];
-      for (int k = 1; k < kSsimWindow; ++k) {
+      const float* mid = ringRow(q, (oy + kR) % kSsimWindow);
+      for (int x = 0; x < outW; ++x) out[x] = g[kR] * mid[x];
+      for (int k = 0; k < kR; ++k) {
         const float gk = g[k];
-        const float* ink = ringRow(q, (oy + k) % kSsimWindow);
-        for (int x = 0; x < outW; ++x) out[x] += gk * ink[x];
+        const float* lo = ringRow(q, (oy + k) % kSsimWindow);
+        const float* hi = ringRow(q, (oy + 2 * kR - k) % kSsimWindow);
+        for (int x = 0; x < outW; ++x) out[x] += gk * (lo[x] + hi[x]);
       }
     }
     const float* mx = acc.data();
@@ -197,8 +206,8 @@ double ssim(const Image<Rgba8>& a, const Image<Rgba8>& b) {
       const float ux = mx[x] + kCentre;
       const float uy = my[x] + kCentre;
       // Wang et al. 2004 eq. (13).
-      m[x] = ((2.0f * ux * uy + c1) * (2.0f * cxy + c2)) /
-             ((ux * ux + uy * uy + c1) * (vx + vy + c2));
+      m[x] =
+          ((2.0f * ux * uy + c1) * (2.0f * cxy + c2)) / ((ux * ux + uy * uy + c1) * (vx + vy + c2));
     }
     double rowSum = 0.0;
     for (int x = 0; x < outW; ++x) rowSum += m[x];

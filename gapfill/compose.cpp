@@ -22,6 +22,13 @@ void checkSameSize(const Image<A>& a, const Image<B>& b) {
   HW_CHECK_EQ(a.height(), b.height());
 }
 
+// One pixel as a 32-bit word (memcpy: no aliasing questions, one load/store).
+inline std::uint32_t load32(const Rgba8* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
 struct Counts {
   int fg = 0, bg = 0, prev = 0, holes = 0;
 };
@@ -40,26 +47,34 @@ struct Inputs {
 // One branch-free pass over all pixels; the variants are compile-time so the
 // loop carries no null tests and vectorises.
 template <bool kHasBg, bool kHasPrev, bool kMerge>
-Counts composePixels(const Inputs& in, float keepFgFactor, std::size_t n, Rgba8* __restrict outColour,
-                     std::uint8_t* __restrict outHoles, std::uint8_t* __restrict outValid) {
+Counts composePixels(const Inputs& in, float keepFgFactor, std::size_t n,
+                     Rgba8* __restrict outColour, std::uint8_t* __restrict outHoles,
+                     std::uint8_t* __restrict outValid) {
   const std::uint32_t unfilled = std::bit_cast<std::uint32_t>(kUnfilledColour);
   int nf = 0, nb = 0, np = 0, nh = 0;
+  // Non-short-circuit (&, |) on 0/1 values: every load is unconditional, so
+  // the loop has no control flow and GCC vectorises it.
   for (std::size_t i = 0; i < n; ++i) {
-    const bool cf = in.fgCoverage[i] != 0;
-    const bool cb = kHasBg && in.bgCoverage[i] != 0;
-    bool takeB = cb && !cf;
-    if constexpr (kMerge) takeB = cb && (!cf || in.bgZ[i] < keepFgFactor * in.fgZ[i]);
-    const bool takeF = cf && !takeB;
-    const bool hole = !cf && !cb;
-    const bool takeP = kHasPrev && hole && in.prevValid[i] != 0;
+    const int cf = in.fgCoverage[i] != 0;
+    const int cb = kHasBg ? int(in.bgCoverage[i] != 0) : 0;
+    int bgWins = 1 - cf;
+    if constexpr (kMerge) bgWins |= int(in.bgZ[i] < keepFgFactor * in.fgZ[i]);
+    const int takeB = cb & bgWins;
+    const int takeF = cf & (1 - takeB);
+    const int hole = (1 - cf) & (1 - cb);
+    const int takeP = kHasPrev ? hole & int(in.prevValid[i] != 0) : 0;
 
-    std::uint32_t c = unfilled;
-    if constexpr (kHasPrev) c = takeP ? std::bit_cast<std::uint32_t>(in.prevColour[i]) : c;
-    if constexpr (kHasBg) c = takeB ? std::bit_cast<std::uint32_t>(in.bgColour[i]) : c;
-    c = takeF ? std::bit_cast<std::uint32_t>(in.fgColour[i]) : c;
-    outColour[i] = std::bit_cast<Rgba8>(c);
+    // Exactly one of the four masks is all-ones.
+    const std::uint32_t mF = 0u - static_cast<std::uint32_t>(takeF);
+    const std::uint32_t mB = 0u - static_cast<std::uint32_t>(takeB);
+    const std::uint32_t mP = 0u - static_cast<std::uint32_t>(takeP);
+    const std::uint32_t mU = ~(mF | mB | mP);
+    std::uint32_t c = (load32(in.fgColour + i) & mF) | (unfilled & mU);
+    if constexpr (kHasBg) c |= load32(in.bgColour + i) & mB;
+    if constexpr (kHasPrev) c |= load32(in.prevColour + i) & mP;
+    std::memcpy(static_cast<void*>(outColour + i), &c, sizeof c);
     outHoles[i] = static_cast<std::uint8_t>(hole);
-    outValid[i] = static_cast<std::uint8_t>(!hole || takeP);
+    outValid[i] = static_cast<std::uint8_t>((1 - hole) | takeP);
     nf += takeF;
     nb += takeB;
     np += takeP;
@@ -69,8 +84,7 @@ Counts composePixels(const Inputs& in, float keepFgFactor, std::size_t n, Rgba8*
 }
 
 template <bool kHasBg, bool kHasPrev>
-Counts dispatchMerge(bool merge, const Inputs& in, float keepFgFactor, std::size_t n,
-                     Frame& out) {
+Counts dispatchMerge(bool merge, const Inputs& in, float keepFgFactor, std::size_t n, Frame& out) {
   if (merge)
     return composePixels<kHasBg, kHasPrev, true>(in, keepFgFactor, n, out.colour.data(),
                                                  out.holesBefore.data(), out.valid.data());
@@ -82,8 +96,10 @@ Counts dispatchMerge(bool merge, const Inputs& in, float keepFgFactor, std::size
 
 const char* composeModeName(ComposeMode m) {
   switch (m) {
-    case ComposeMode::Overlay: return "overlay";
-    case ComposeMode::DepthMerge: return "depth-merge";
+    case ComposeMode::Overlay:
+      return "overlay";
+    case ComposeMode::DepthMerge:
+      return "depth-merge";
   }
   return "?";
 }

@@ -3,7 +3,6 @@
 // (Zheng et al. 1999 §2.2; DESIGN.md "Composition"), with an optional
 // depth-aware merge in the spirit of Pulli et al.'s soft z-buffer.
 #include <cstdint>
-
 #include <glm/glm.hpp>
 
 #include "core/image.h"
@@ -21,24 +20,25 @@ enum class ComposeMode {
   DepthMerge,
 };
 const char* composeModeName(ComposeMode m);  // "overlay", "depth-merge"
+// False (and *out unchanged) for an unknown name or null s.
 bool parseComposeMode(const char* s, ComposeMode* out);
 
 struct ComposeOptions {
   ComposeMode mode = ComposeMode::Overlay;
-  float depthTolerance = 0.02f;  // relative to the foreground's eyeZ; DepthMerge only
+  float depthTolerance = 0.02f;  // relative to the foreground's eyeZ, in [0, 1); DepthMerge only
 };
 
 // One displayed frame and what composition did to get it. Images are all the
 // layers' size; masks hold 0/1.
 struct Frame {
-  Image<Rgba8> colour;               // row 0 = top; unfilled pixels are opaque black
-  Image<std::uint8_t> holesBefore;   // 1 = neither layer covers
-  Image<std::uint8_t> valid;         // 1 = has content after the previous-frame fill
-  double holeFractionBefore = 0.0;   // fraction of pixels with holesBefore = 1
-  double holeFractionAfter = 0.0;    // fraction of pixels still unfilled (valid = 0)
-  int fromForeground = 0;            // pixel counts; they sum to width·height
+  Image<Rgba8> colour;              // row 0 = top; unfilled pixels are opaque black
+  Image<std::uint8_t> holesBefore;  // 1 = neither layer covers
+  Image<std::uint8_t> valid;        // 1 = has content after the previous-frame fill
+  double holeFractionBefore = 0.0;  // fraction of pixels with holesBefore = 1
+  double holeFractionAfter = 0.0;   // fraction of pixels still unfilled (valid = 0)
+  int fromForeground = 0;           // pixel counts; they sum to width·height
   int fromBackground = 0;
-  int fromPrevious = 0;              // the paper's holes, filled from the last frame
+  int fromPrevious = 0;  // the paper's holes, filled from the last frame
   int unfilled = 0;
 };
 
@@ -55,8 +55,10 @@ constexpr Rgba8 kUnfilledColour{0, 0, 0, 255};
 // Preconditions (checked): foreground.colour and .coverage have one size;
 // background (if given) and previous (if given) have that size too; with
 // DepthMerge both layers' eyeZ have that size as well (eyeZ is not read in
-// Overlay mode) and must be > 0 where covered. `previous` is null for the
-// first frame and must not be `&out` (double-buffer frames instead).
+// Overlay mode, nor without a background); `previous` (null for the first
+// frame) is not `&out`: double-buffer frames instead. Not checked, per pixel:
+// eyeZ > 0 where covered (the sky backdrop has warp::kSkyEyeZ, so any surface
+// of the other layer beats it).
 // Allocation-free when `out` already has the layers' size: its images are
 // resized only when their size differs.
 void compose(const warp::Layer& foreground, const warp::Layer* background, const Frame* previous,

@@ -1,7 +1,5 @@
 // Metrics (core/metrics.h): MSE/PSNR against hand-computed values, SSIM
 // properties from Wang et al. 2004, and the report-strip helpers.
-#include "core/metrics.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +7,9 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
+
+#include "core/metrics.h"
 
 namespace hw {
 namespace {
@@ -171,30 +172,48 @@ TEST(Metrics, SsimOfUnrelatedRandomImagesIsNearZero) {
   EXPECT_NEAR(s, 0.0, 0.05);
 }
 
-TEST(Metrics, SsimMatchesDirectComputationOnOneWindow) {
-  // 11×11: a single valid window, computed here directly from eq. (13) in double.
-  const Image<Rgba8> a = randomImage(11, 11, 31);
-  const Image<Rgba8> b = addNoise(a, 30.0, 32);
+// Direct evaluation of Wang et al. 2004 eq. (13) in double: the 2-D Gaussian
+// window at every valid position, then the mean.
+double ssimDirect(const Image<Rgba8>& a, const Image<Rgba8>& b) {
   double g[11], gs = 0;
   for (int k = 0; k < 11; ++k) gs += g[k] = std::exp(-(k - 5) * (k - 5) / (2 * 1.5 * 1.5));
   auto luma = [](Rgba8 p) { return 0.299 * p.r + 0.587 * p.g + 0.114 * p.b; };
-  double mx = 0, my = 0, exx = 0, eyy = 0, exy = 0;
-  for (int y = 0; y < 11; ++y) {
-    for (int x = 0; x < 11; ++x) {
-      const double w = g[x] * g[y] / (gs * gs);
-      const double lx = luma(a(x, y)), ly = luma(b(x, y));
-      mx += w * lx;
-      my += w * ly;
-      exx += w * lx * lx;
-      eyy += w * ly * ly;
-      exy += w * lx * ly;
+  const double c1 = 6.5025, c2 = 58.5225;  // (0.01·255)², (0.03·255)²
+  double total = 0;
+  int count = 0;
+  for (int y0 = 0; y0 + 11 <= a.height(); ++y0) {
+    for (int x0 = 0; x0 + 11 <= a.width(); ++x0) {
+      double mx = 0, my = 0, exx = 0, eyy = 0, exy = 0;
+      for (int y = 0; y < 11; ++y) {
+        for (int x = 0; x < 11; ++x) {
+          const double w = g[x] * g[y] / (gs * gs);
+          const double lx = luma(a(x0 + x, y0 + y)), ly = luma(b(x0 + x, y0 + y));
+          mx += w * lx;
+          my += w * ly;
+          exx += w * lx * lx;
+          eyy += w * ly * ly;
+          exy += w * lx * ly;
+        }
+      }
+      const double vx = exx - mx * mx, vy = eyy - my * my, cxy = exy - mx * my;
+      total += (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+      ++count;
     }
   }
-  const double c1 = 6.5025, c2 = 58.5225;
-  const double vx = exx - mx * mx, vy = eyy - my * my, cxy = exy - mx * my;
-  const double expected =
-      (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
-  EXPECT_NEAR(ssim(a, b), expected, 1e-4);
+  return total / count;
+}
+
+TEST(Metrics, SsimMatchesDirectComputation) {
+  // One window (11×11), and a non-square image whose row count exceeds the
+  // 11-row ring buffer several times.
+  for (auto [w, h] : {std::pair{11, 11}, std::pair{19, 40}, std::pair{37, 23}}) {
+    const Image<Rgba8> a = randomImage(w, h, 31);
+    const Image<Rgba8> b = addNoise(a, 30.0, 32);
+    EXPECT_NEAR(ssim(a, b), ssimDirect(a, b), 1e-4) << w << "x" << h;
+    const Image<Rgba8> s = structuredImage(w, h);
+    const Image<Rgba8> sn = addNoise(s, 8.0, 33);
+    EXPECT_NEAR(ssim(s, sn), ssimDirect(s, sn), 1e-4) << w << "x" << h;
+  }
 }
 
 TEST(Metrics, HoleFraction) {

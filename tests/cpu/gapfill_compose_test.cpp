@@ -1,10 +1,10 @@
 // Composition rules (gapfill/compose.h, Zheng et al. 1999 §2.2) on small
 // constructed layers whose expected result is known pixel by pixel.
-#include "gapfill/compose.h"
-
 #include <gtest/gtest.h>
 
 #include <cstdint>
+
+#include "gapfill/compose.h"
 
 namespace hw::gapfill {
 namespace {
@@ -13,12 +13,12 @@ constexpr Rgba8 kFg{200, 0, 0, 255};
 constexpr Rgba8 kBg{0, 200, 0, 255};
 constexpr Rgba8 kPrev{0, 0, 200, 255};
 
-warp::Layer makeLayer(int w, int h, Rgba8 colour, float eyeZ) {
+// Nothing covered; eyeZ 0 (the warper's value where not covered).
+warp::Layer makeLayer(int w, int h, Rgba8 colour) {
   warp::Layer l;
   l.colour.resize(w, h, colour);
   l.coverage.resize(w, h, 0);
   l.eyeZ.resize(w, h, 0.0f);
-  (void)eyeZ;
   return l;
 }
 
@@ -43,8 +43,8 @@ Frame makePrevious(int w, int h, Rgba8 colour) {
 
 TEST(Compose, ForegroundHasPriorityAndBackgroundFillsTheRest) {
   // 10 columns: fg covers 0..5, bg covers 3..8, column 9 is a hole.
-  warp::Layer fg = makeLayer(10, 3, kFg, 0);
-  warp::Layer bg = makeLayer(10, 3, kBg, 0);
+  warp::Layer fg = makeLayer(10, 3, kFg);
+  warp::Layer bg = makeLayer(10, 3, kBg);
   coverColumns(fg, 0, 6, 5.0f);
   coverColumns(bg, 3, 9, 1.0f);  // much nearer, but Overlay ignores depth
   Frame out;
@@ -65,8 +65,8 @@ TEST(Compose, ForegroundHasPriorityAndBackgroundFillsTheRest) {
 }
 
 TEST(Compose, PreviousFrameFillsHolesAndIsCounted) {
-  warp::Layer fg = makeLayer(8, 2, kFg, 0);
-  warp::Layer bg = makeLayer(8, 2, kBg, 0);
+  warp::Layer fg = makeLayer(8, 2, kFg);
+  warp::Layer bg = makeLayer(8, 2, kBg);
   coverColumns(fg, 0, 4, 2.0f);
   coverColumns(bg, 4, 6, 2.0f);
   Frame prev = makePrevious(8, 2, kPrev);
@@ -89,7 +89,7 @@ TEST(Compose, PreviousFrameFillsHolesAndIsCounted) {
 }
 
 TEST(Compose, FirstFrameLeavesHolesUnfilled) {
-  warp::Layer fg = makeLayer(4, 4, kFg, 0);
+  warp::Layer fg = makeLayer(4, 4, kFg);
   cover(fg, 1, 1, 3.0f);
   Frame out;
   compose(fg, nullptr, nullptr, ComposeOptions{}, out);
@@ -107,8 +107,8 @@ TEST(Compose, HoleFractionsExactOnConstructedMasks) {
   // 16×16; fg covers a 6×6 block, bg an overlapping 8×4 block, previous valid
   // on the left half only.
   constexpr int kW = 16, kH = 16;
-  warp::Layer fg = makeLayer(kW, kH, kFg, 0);
-  warp::Layer bg = makeLayer(kW, kH, kBg, 0);
+  warp::Layer fg = makeLayer(kW, kH, kFg);
+  warp::Layer bg = makeLayer(kW, kH, kBg);
   for (int y = 0; y < 6; ++y)
     for (int x = 0; x < 6; ++x) cover(fg, x, y, 1.0f);
   for (int y = 4; y < 8; ++y)
@@ -156,8 +156,8 @@ TEST(Compose, DepthMergeTakesClearlyNearerBackgroundOnly) {
   //   x=1: 9.9   (nearer by 1 %, within the 2 % tolerance → fg)
   //   x=2: 9.79  (nearer by 2.1 % → bg)
   //   x=3: 20    (farther → fg)
-  warp::Layer fg = makeLayer(4, 1, kFg, 0);
-  warp::Layer bg = makeLayer(4, 1, kBg, 0);
+  warp::Layer fg = makeLayer(4, 1, kFg);
+  warp::Layer bg = makeLayer(4, 1, kBg);
   const float bgZ[4] = {5.0f, 9.9f, 9.79f, 20.0f};
   for (int x = 0; x < 4; ++x) {
     cover(fg, x, 0, 10.0f);
@@ -184,8 +184,8 @@ TEST(Compose, DepthMergeTakesClearlyNearerBackgroundOnly) {
 }
 
 TEST(Compose, DepthMergeIgnoresDepthWhereOnlyOneLayerCovers) {
-  warp::Layer fg = makeLayer(3, 1, kFg, 0);
-  warp::Layer bg = makeLayer(3, 1, kBg, 0);
+  warp::Layer fg = makeLayer(3, 1, kFg);
+  warp::Layer bg = makeLayer(3, 1, kBg);
   cover(fg, 0, 0, 100.0f);
   cover(bg, 1, 0, 100.0f);
   fg.eyeZ(1, 0) = 50.0f;  // stale depth under no coverage must not matter
@@ -197,9 +197,27 @@ TEST(Compose, DepthMergeIgnoresDepthWhereOnlyOneLayerCovers) {
   EXPECT_EQ(out.colour(2, 0), kUnfilledColour);
 }
 
+TEST(Compose, DepthMergeLetsGeometryBeatTheSkyBackdrop) {
+  // Sky pixels are covered at warp::kSkyEyeZ (finite, huge): any real surface
+  // of the other layer is nearer; sky against sky stays foreground.
+  warp::Layer fg = makeLayer(3, 1, kFg);
+  warp::Layer bg = makeLayer(3, 1, kBg);
+  cover(fg, 0, 0, warp::kSkyEyeZ);
+  cover(bg, 0, 0, 50.0f);
+  cover(fg, 1, 0, warp::kSkyEyeZ);
+  cover(bg, 1, 0, warp::kSkyEyeZ);
+  cover(fg, 2, 0, 50.0f);
+  cover(bg, 2, 0, warp::kSkyEyeZ);
+  Frame out;
+  compose(fg, &bg, nullptr, ComposeOptions{ComposeMode::DepthMerge, 0.02f}, out);
+  EXPECT_EQ(out.colour(0, 0), kBg);
+  EXPECT_EQ(out.colour(1, 0), kFg);
+  EXPECT_EQ(out.colour(2, 0), kFg);
+}
+
 TEST(Compose, SecondCallDoesNotReallocate) {
-  warp::Layer fg = makeLayer(32, 16, kFg, 0);
-  warp::Layer bg = makeLayer(32, 16, kBg, 0);
+  warp::Layer fg = makeLayer(32, 16, kFg);
+  warp::Layer bg = makeLayer(32, 16, kBg);
   coverColumns(fg, 0, 10, 1.0f);
   coverColumns(bg, 5, 20, 2.0f);
   Frame prev = makePrevious(32, 16, kPrev);
@@ -252,7 +270,9 @@ TEST(ChooseForeground, TieGoesToTheEarlierKeyframe) {
   EXPECT_EQ(chooseForeground(nudged, a, b), 0);
   EXPECT_EQ(chooseForeground(mid - 1e-12 * (b - a), b, a), 0);
   // Off the segment, equidistant points are ties too.
-  EXPECT_EQ(chooseForeground(mid + glm::dvec3(0, 100, 0) * 0.0, a, b), 0);
+  const glm::dvec3 perpendicular = glm::cross(b - a, glm::dvec3(0, 0, 1));
+  EXPECT_EQ(chooseForeground(mid + 3.0 * perpendicular, a, b), 0);
+  EXPECT_EQ(chooseForeground(mid + 3.0 * perpendicular, b, a), 0);
   // Degenerate: all three equal.
   EXPECT_EQ(chooseForeground(a, a, a), 0);
 }
@@ -260,15 +280,15 @@ TEST(ChooseForeground, TieGoesToTheEarlierKeyframe) {
 using ComposeDeathTest = ::testing::Test;
 
 TEST_F(ComposeDeathTest, PreconditionsAreChecked) {
-  warp::Layer fg = makeLayer(4, 4, kFg, 0);
-  warp::Layer bg = makeLayer(4, 5, kBg, 0);
+  warp::Layer fg = makeLayer(4, 4, kFg);
+  warp::Layer bg = makeLayer(4, 5, kBg);
   Frame out;
   EXPECT_DEATH(compose(fg, &bg, nullptr, ComposeOptions{}, out), "CHECK failed");
   Frame prev = makePrevious(4, 4, kPrev);
   EXPECT_DEATH(compose(fg, nullptr, &prev, ComposeOptions{}, prev), "CHECK failed");
   Frame small = makePrevious(3, 4, kPrev);
   EXPECT_DEATH(compose(fg, nullptr, &small, ComposeOptions{}, out), "CHECK failed");
-  warp::Layer noDepth = makeLayer(4, 4, kBg, 0);
+  warp::Layer noDepth = makeLayer(4, 4, kBg);
   noDepth.eyeZ = Image<float>();
   EXPECT_DEATH(compose(fg, &noDepth, nullptr, ComposeOptions{ComposeMode::DepthMerge, 0.02f}, out),
                "CHECK failed");
