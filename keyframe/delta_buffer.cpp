@@ -9,8 +9,10 @@ namespace hw::keyframe {
 
 const char* deltaCriterionName(DeltaCriterion c) {
   switch (c) {
-    case DeltaCriterion::FivePoint: return "five-point";
-    case DeltaCriterion::PerAxisMax: return "per-axis-max";
+    case DeltaCriterion::FivePoint:
+      return "five-point";
+    case DeltaCriterion::PerAxisMax:
+      return "per-axis-max";
   }
   return "?";
 }
@@ -33,36 +35,42 @@ inline float combine(double dx, double dy) {
   if constexpr (C == DeltaCriterion::FivePoint) {
     return static_cast<float>(std::fabs(dx + dy));
   } else {
-    return static_cast<float>(std::fmax(std::fabs(dx), std::fabs(dy)));
+    // A plain select (fmax does not vectorise) may drop a NaN operand; the
+    // 0·(dx + dy) term puts it back, so that a non-finite z' is still caught
+    // as a discontinuity.
+    const double ax = std::fabs(dx), ay = std::fabs(dy);
+    return static_cast<float>((ax > ay ? ax : ay) + 0.0 * (dx + dy));
   }
 }
 
 // One row of |Δ²| ignoring coverage. `up`/`dn` are null on the first/last
-// row: Δ²ᵧ = 0 there (linear extrapolation). Straight-line loops over
+// row: Δ²ᵧ = 0 there (linear extrapolation); likewise Δ²ₓ in the first/last
+// column. Those zeros are written as (c − c), not 0, so that a non-finite z'
+// still yields NaN and is caught as a discontinuity. Straight-line loops over
 // restrict pointers so that -O3 vectorises them (NOTES-GL.md).
 template <DeltaCriterion C>
-void rowValues(const double* __restrict c, const double* __restrict up,
-               const double* __restrict dn, float* __restrict out, int w) {
+void rowValues(const double* __restrict c, const double* __restrict up, const double* __restrict dn,
+               float* __restrict out, int w) {
   if (w == 1) {
-    const double dy = up && dn ? 2.0 * c[0] - up[0] - dn[0] : 0.0;
-    out[0] = combine<C>(0.0, dy);
+    const double dy = up && dn ? 2.0 * c[0] - up[0] - dn[0] : c[0] - c[0];
+    out[0] = combine<C>(c[0] - c[0], dy);
     return;
   }
   if (up && dn) {
-    out[0] = combine<C>(0.0, 2.0 * c[0] - up[0] - dn[0]);
+    out[0] = combine<C>(c[0] - c[0], 2.0 * c[0] - up[0] - dn[0]);
     for (int x = 1; x < w - 1; ++x) {
       const double dx = 2.0 * c[x] - c[x - 1] - c[x + 1];
       const double dy = 2.0 * c[x] - up[x] - dn[x];
       out[x] = combine<C>(dx, dy);
     }
-    out[w - 1] = combine<C>(0.0, 2.0 * c[w - 1] - up[w - 1] - dn[w - 1]);
+    out[w - 1] = combine<C>(c[w - 1] - c[w - 1], 2.0 * c[w - 1] - up[w - 1] - dn[w - 1]);
   } else {
-    out[0] = 0.0f;
+    out[0] = combine<C>(c[0] - c[0], c[0] - c[0]);
     for (int x = 1; x < w - 1; ++x) {
       const double dx = 2.0 * c[x] - c[x - 1] - c[x + 1];
-      out[x] = combine<C>(dx, 0.0);
+      out[x] = combine<C>(dx, c[x] - c[x]);
     }
-    out[w - 1] = 0.0f;
+    out[w - 1] = combine<C>(c[w - 1] - c[w - 1], c[w - 1] - c[w - 1]);
   }
 }
 
@@ -101,7 +109,8 @@ void rowCoverage(const std::uint8_t* __restrict cc, const std::uint8_t* __restri
 }
 
 template <DeltaCriterion C>
-void computeImpl(ImageView<const double> z, ImageView<const std::uint8_t> cov, ImageView<float> out) {
+void computeImpl(ImageView<const double> z, ImageView<const std::uint8_t> cov,
+                 ImageView<float> out) {
   const int w = z.width, h = z.height;
   for (int y = 0; y < h; ++y) {
     const bool interior = y > 0 && y < h - 1;

@@ -112,7 +112,8 @@ class LodBuilder {
 
 // One-shot conveniences (allocate a builder each call).
 Result<QuadMesh> buildQuadMesh(const Keyframe& keyframe, const LodOptions& options);
-Result<QuadMesh> buildQuadMesh(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
-                               const Camera& camera, const LodOptions& options);
+Result<QuadMesh> buildQuadMesh(ImageView<const double> zPrime,
+                               ImageView<const std::uint8_t> covered, const Camera& camera,
+                               const LodOptions& options);
 
 }  // namespace hw::keyframe
