@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/plot.h"
 #include "bench/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
@@ -178,6 +179,40 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", s.error().message.c_str());
     return 1;
   }
-  std::printf("wrote %s/frame_timing.json and .csv\n", outDir.c_str());
+  // Plots: geometry ms vs triangles (log-log), with the in-between frame ms
+  // of each walk, one series per scene and τ.
+  std::vector<bench::Series> series;
+  for (const char* name : names) {
+    bench::Series g;
+    g.label = std::string("geometry, ") + name;
+    for (const json& r : renderRows)
+      if (r["scene"] == name) {
+        g.x.push_back(r["triangles"].get<double>());
+        g.y.push_back(r["median_ms"].get<double>());
+      }
+    series.push_back(g);
+    for (double tau : {2048.0, 32768.0}) {
+      bench::Series h;
+      h.label = std::string("hybrid in-between, ") + name + (tau < 4096 ? ", tau 2^11" : ", tau 2^15");
+      for (const json& r : walkRows)
+        if (r["scene"] == name && r["tau"].get<double>() == tau && r["in_between_ms"]["median"].is_number()) {
+          h.x.push_back(r["triangles"].get<double>());
+          h.y.push_back(r["in_between_ms"]["median"].get<double>());
+        }
+      if (!h.x.empty()) series.push_back(h);
+    }
+  }
+  bench::PlotOptions po;
+  po.title = "Frame time vs scene size (512x512, median)";
+  po.xLabel = "triangles";
+  po.yLabel = "ms per frame";
+  po.logX = po.logY = true;
+  po.width = 900;
+  po.height = 560;
+  if (auto s = bench::writePlot(outDir + "/frame_time_vs_triangles.png", series, po); !s) {
+    std::fprintf(stderr, "error: %s\n", s.error().message.c_str());
+    return 1;
+  }
+  std::printf("wrote %s/frame_timing.json, .csv and frame_time_vs_triangles.png\n", outDir.c_str());
   return 0;
 }
