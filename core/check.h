@@ -24,8 +24,8 @@ std::string formatPair(const char* ea, const char* op, const char* eb, const A& 
   do { if (!(cond)) ::hw::detail::checkFailed(__FILE__, __LINE__, #cond); } while (0)
 #define HW_CHECK_OP(a, op, b)                                                        \
   do {                                                                               \
-    const auto& hwA_ = (a);                                                          \
-    const auto& hwB_ = (b);                                                          \
+    const auto hwA_ = (a);                                                          \
+    const auto hwB_ = (b);                                                          \
     if (!(hwA_ op hwB_))                                                             \
       ::hw::detail::checkFailed(__FILE__, __LINE__,                                  \
                                 ::hw::detail::formatPair(#a, #op, #b, hwA_, hwB_));  \

@@ -5,9 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-
+#include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/file_io.h"
 
@@ -52,13 +53,16 @@ Result<double> getNumber(const Ctx& c, const Json& j, const std::string& key) {
 }
 
 Result<int> getInt(const Ctx& c, const Json& j, const std::string& key, int lo, int hi) {
-  const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const std::string expected =
+      "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   const std::string expectedLo = "an integer >= " + std::to_string(lo);
   const std::string& exp = hi == std::numeric_limits<int>::max() ? expectedLo : expected;
   if (!j.is_number_integer()) return c.fail(key, exp, j);
   if (j.is_number_unsigned()) {
     const auto u = j.get<std::uint64_t>();
-    if (u > static_cast<std::uint64_t>(hi)) return c.fail(key, exp, j);
+    if (static_cast<std::int64_t>(std::min<std::uint64_t>(u, INT64_MAX)) < lo ||
+        u > static_cast<std::uint64_t>(hi))
+      return c.fail(key, exp, j);
     return static_cast<int>(u);
   }
   const auto v = j.get<std::int64_t>();
@@ -68,7 +72,7 @@ Result<int> getInt(const Ctx& c, const Json& j, const std::string& key, int lo, 
 
 Result<glm::dvec3> getVec3(const Ctx& c, const Json& j, const std::string& key) {
   if (!j.is_array() || j.size() != 3) return c.fail(key, "an array of 3 numbers", j);
-  glm::dvec3 v;
+  glm::dvec3 v(0.0);
   for (int i = 0; i < 3; ++i) {
     auto x = getNumber(c, j[static_cast<std::size_t>(i)], key + "[" + std::to_string(i) + "]");
     if (!x) return x.error();
@@ -122,7 +126,8 @@ std::vector<double> arcLengthTable(const std::vector<CameraKey>& keys, Which whi
   glm::dvec3 prev = curveAt(keys, which, 0.0);
   for (int k = 1; k <= m; ++k) {
     const glm::dvec3 p = curveAt(keys, which, static_cast<double>(k) / kSamplesPerSegment);
-    table[static_cast<std::size_t>(k)] = table[static_cast<std::size_t>(k) - 1] + glm::length(p - prev);
+    table[static_cast<std::size_t>(k)] =
+        table[static_cast<std::size_t>(k) - 1] + glm::length(p - prev);
     prev = p;
   }
   return table;
@@ -156,7 +161,8 @@ glm::dvec3 safeUp(const glm::dvec3& forward, const glm::dvec3& up) {
 Camera CameraPath::cameraAt(int index) const {
   HW_CHECK(!keys.empty());
   HW_CHECK_GE(index, 0);
-  HW_CHECK_LT(index, std::max(frames, 1));
+  const int frameCount = std::max(frames, 1);
+  HW_CHECK_LT(index, frameCount);
   const int n = static_cast<int>(keys.size());
   double u = 0.0;  // global curve parameter in [0, n−1]
   if (n > 1 && frames > 1) {
@@ -175,7 +181,8 @@ Camera CameraPath::cameraAt(int index) const {
   glm::dvec3 target = curveAt(keys, Which::LookAt, u);
   if (!(glm::length(target - eye) > 1e-9)) {
     // Curves cross here: keep the nearest key's viewing direction.
-    const CameraKey& k = keys[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(u)), 0, n - 1))];
+    const CameraKey& k =
+        keys[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(u)), 0, n - 1))];
     glm::dvec3 dir = k.lookAt - k.eye;
     if (!(glm::length(dir) > 0.0)) dir = glm::dvec3(0, 0, -1);
     target = eye + glm::normalize(dir);
@@ -197,8 +204,8 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
   }
   if (!root.is_object()) return c.fail("(top level)", "an object", root);
 
-  static const char* const kKnown[] = {"width", "height", "fov_y_deg", "near", "far",
-                                        "up",    "keys",   "frames",    "keyframe_every"};
+  static const char* const kKnown[] = {"width", "height", "fov_y_deg", "near",          "far",
+                                       "up",    "keys",   "frames",    "keyframe_every"};
   for (const auto& item : root.items()) {
     if (std::find_if(std::begin(kKnown), std::end(kKnown),
                      [&](const char* k) { return item.key() == k; }) == std::end(kKnown))
@@ -223,7 +230,8 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
   if (root.contains("fov_y_deg")) {
     auto v = getNumber(c, root["fov_y_deg"], "fov_y_deg");
     if (!v) return v.error();
-    if (!(*v > 0.0 && *v < 180.0)) return c.fail("fov_y_deg", "a number in (0, 180)", root["fov_y_deg"]);
+    if (!(*v > 0.0 && *v < 180.0))
+      return c.fail("fov_y_deg", "a number in (0, 180)", root["fov_y_deg"]);
     p.fovYDeg = *v;
   }
   if (root.contains("near")) {
@@ -254,17 +262,20 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
     p.frames = *v;
   }
   if (root.contains("keyframe_every")) {
-    auto v = getInt(c, root["keyframe_every"], "keyframe_every", 1, std::numeric_limits<int>::max());
+    auto v =
+        getInt(c, root["keyframe_every"], "keyframe_every", 1, std::numeric_limits<int>::max());
     if (!v) return v.error();
     p.keyframeEvery = *v;
   }
 
   const Json& keys = root["keys"];
-  if (!keys.is_array() || keys.empty()) return c.fail("keys", "a non-empty array of {eye, look_at}", keys);
+  if (!keys.is_array() || keys.empty())
+    return c.fail("keys", "a non-empty array of {eye, look_at}", keys);
   for (std::size_t i = 0; i < keys.size(); ++i) {
     const std::string name = "keys[" + std::to_string(i) + "]";
     const Json& k = keys[i];
-    if (!k.is_object()) return c.fail(name, "an object {\"eye\": [x, y, z], \"look_at\": [x, y, z]}", k);
+    if (!k.is_object())
+      return c.fail(name, "an object {\"eye\": [x, y, z], \"look_at\": [x, y, z]}", k);
     for (const auto& item : k.items())
       if (item.key() != "eye" && item.key() != "look_at")
         return c.fail(name + "." + item.key(), "unknown key (known: eye, look_at)");
@@ -278,8 +289,8 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
     key.eye = *eye;
     key.lookAt = *at;
     if (key.eye == key.lookAt)
-      return c.fail(name + ".look_at", "expected a point different from eye, got " + fmtVec(key.lookAt) +
-                                           " == eye");
+      return c.fail(name + ".look_at",
+                    "expected a point different from eye, got " + fmtVec(key.lookAt) + " == eye");
     if (parallel(key.lookAt - key.eye, p.up))
       return c.fail(name + ".look_at", "view direction " + fmtVec(key.lookAt - key.eye) +
                                            " is parallel to up " + fmtVec(p.up));

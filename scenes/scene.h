@@ -54,6 +54,7 @@ struct Scene {
   std::vector<Texture> textures;
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
   glm::vec3 skyColour{0.55f, 0.70f, 0.90f};  // clear colour where nothing is drawn
+  std::vector<std::string> warnings;  // non-fatal load problems (e.g. a texture replaced)
 
   std::size_t triangleCount() const;
   void computeBounds();  // from the meshes' bounds (calls Mesh::computeBounds)
