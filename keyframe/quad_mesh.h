@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/camera.h"
+
 #include "keyframe/delta_buffer.h"
 
 namespace hw::keyframe {
@@ -47,5 +49,10 @@ struct QuadMesh {
   std::vector<Quad> quads;
   QuadMeshStats stats;
 };
+
+// World point on a quad at keyframe image position (u, v). The quad is planar
+// and 1/z is affine on a plane, so 1/z is interpolated bilinearly from the
+// corners (exact for unclamped corners). `camera` is the keyframe's.
+glm::dvec3 quadPointAt(const Quad& quad, const Camera& camera, double u, double v);
 
 }  // namespace hw::keyframe

@@ -5,14 +5,6 @@
 
 namespace hw::warp {
 
-glm::dvec3 quadPointAt(const keyframe::Quad& q, const Camera& cam, double u, double v) {
-  const double s = (u - q.pixel[0].x) / (q.pixel[1].x - q.pixel[0].x);
-  const double t = (v - q.pixel[0].y) / (q.pixel[3].y - q.pixel[0].y);
-  const double inv = (1 - s) * (1 - t) / q.eyeZ[0] + s * (1 - t) / q.eyeZ[1] +
-                     s * t / q.eyeZ[2] + (1 - s) * t / q.eyeZ[3];
-  return cam.unproject(u, v, 1.0 / inv);
-}
-
 std::vector<WarpSample> reprojectSamples(const keyframe::Keyframe& kf,
                                          const keyframe::QuadMesh& mesh, const Camera& target,
                                          int samplesPerAxis) {
@@ -28,7 +20,7 @@ std::vector<WarpSample> reprojectSamples(const keyframe::Keyframe& kf,
         WarpSample s;
         s.sourceU = px + 0.5;
         s.sourceV = py + 0.5;
-        const glm::dvec3 w = quadPointAt(q, kf.camera, s.sourceU, s.sourceV);
+        const glm::dvec3 w = keyframe::quadPointAt(q, kf.camera, s.sourceU, s.sourceV);
         const ProjectedPoint p = target.project(w);
         if (!(p.zEye > 0) || !std::isfinite(p.u) || !std::isfinite(p.v)) continue;
         s.targetU = p.u;

@@ -17,10 +17,6 @@ struct WarpSample {
   Rgba8 colour;                     // keyframe colour at the source pixel
 };
 
-// World point on a quad at keyframe image position (u, v): 1/z is affine on a
-// plane, so it is interpolated bilinearly from the corners' 1/z.
-glm::dvec3 quadPointAt(const keyframe::Quad& q, const Camera& keyframeCamera, double u, double v);
-
 // For every quad, samples at the centres of an n×n grid of its keyframe pixels
 // (fewer for small quads), reprojected into `target`. Samples behind the
 // target eye are dropped.
