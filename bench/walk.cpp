@@ -75,7 +75,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   auto& renderer = **rendererR;
   // The reference uses the same renderer settings: the geometry image at the
   // same camera (DESIGN.md "What is measured").
-  auto warperR = warp::Warper::create(opt.warp);
+  warp::WarpOptions wopt = opt.warp;
+  wopt.writeEyeZ = opt.compose.mode == gapfill::ComposeMode::DepthMerge;  // only the merge reads it
+  auto warperR = warp::Warper::create(wopt);
   if (!warperR) return warperR.error();
   auto& warper = **warperR;
 

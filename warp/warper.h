@@ -30,6 +30,9 @@ struct WarpOptions {
   // infinity move only with camera rotation, so this is exact for them. Off:
   // the paper's rule, where empty pixels belong to no quad and become holes.
   bool skyBackdrop = true;
+  // Write Layer::eyeZ (an R32F attachment). Only the depth-merge composition
+  // reads it; without it Layer::eyeZ is left empty (0×0).
+  bool writeEyeZ = true;
 };
 
 struct WarpStats {

@@ -161,7 +161,8 @@ class GlWarper final : public Warper {
               WarpStats* stats) override {
     const auto& src = static_cast<const GlWarpSource&>(source);
     if (fbo_.width() != target.width || fbo_.height() != target.height) {
-      auto fb = gl::Framebuffer::create(target.width, target.height, DepthMode::Fixed24, true);
+      auto fb = gl::Framebuffer::create(target.width, target.height, DepthMode::Fixed24,
+                                        options_.writeEyeZ);
       if (!fb) return fb.error();
       fbo_ = std::move(*fb);
     }
@@ -194,7 +195,8 @@ class GlWarper final : public Warper {
     glFinish();
     const double drawMs = sw.lap();
     fbo_.readColour(out.colour);
-    fbo_.readFloatChannel(out.eyeZ);
+    if (options_.writeEyeZ) fbo_.readFloatChannel(out.eyeZ);
+    else out.eyeZ.resize(0, 0);
     if (out.coverage.width() != target.width || out.coverage.height() != target.height)
       out.coverage.resize(target.width, target.height);
     const std::size_t n = out.colour.size();
