@@ -58,7 +58,8 @@ struct Camera {
   // GL matrices. viewMatrix: world → GL eye space (−Z forward). The
   // projection follows `mode`: standard OpenGL [−1, 1] for Fixed24/Float32,
   // and 1 → 0 with glClipControl(ZERO_TO_ONE) for Float32Reversed.
-  // infiniteFar puts the far plane at infinity (standard modes only).
+  // infiniteFar puts the far plane at infinity (window depth 1 − n/z standard,
+  // n/z reversed).
   glm::dmat4 viewMatrix() const;
   glm::dmat4 projectionMatrix(DepthMode mode, bool infiniteFar = false) const;
 

@@ -95,6 +95,13 @@ Status ensureWritableDir(const std::string& dir) {
     return makeError("output path " + dir + " exists and is not a directory");
   if (::access(dir.c_str(), W_OK) != 0)
     return makeError("output directory " + dir + " is not writable: " + std::strerror(errno));
+  // Permission bits do not stop root, and say nothing of read-only or special
+  // filesystems: probe with a real file.
+  const std::string probe = dir + "/.hybridwalk-probe-" + std::to_string(::getpid());
+  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  if (!f) return makeError("output directory " + dir + " is not writable: " + std::strerror(errno));
+  std::fclose(f);
+  std::remove(probe.c_str());
   return {};
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/check.h"
+
 namespace hw {
 
 class Stopwatch {
@@ -29,13 +31,16 @@ class Stopwatch {
 
 // Linear-interpolated percentile, p in [0, 100]. NaN for an empty list.
 inline double percentile(std::vector<double> v, double p) {
+  HW_CHECK(p >= 0.0 && p <= 100.0);
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
   if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
   const double pos = p / 100.0 * static_cast<double>(v.size() - 1);
   const auto lo = static_cast<size_t>(std::floor(pos));
   const size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  const double frac = pos - static_cast<double>(lo);
+  // On an element exactly: no interpolation (keeps ±inf, avoids 0·inf = NaN).
+  return frac == 0.0 ? v[lo] : v[lo] + frac * (v[hi] - v[lo]);
 }
 inline double median(std::vector<double> v) { return percentile(std::move(v), 50.0); }
 
