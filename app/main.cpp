@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 
+#include "bench/bench_suite.h"
+#include "bench/sweep.h"
 #include "bench/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
@@ -254,6 +256,40 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   lod->add_option("--out", lodOut, "Overlay PNG path")->capture_default_str();
 
+  // sweep
+  Common sweepC;
+  std::string sweepOut = "out/sweep", sweepTaus;
+  bool sweepOneCriterion = false, sweepNoBaselines = false, sweepQuiet = false;
+  int sweepOverlayFrame = -1;
+  auto* sweep = app.add_subcommand(
+      "sweep", "Run time against error: the walk for tau = 2^6 .. 2^16 (or --tau), both "
+               "criteria, and baselines at matched quad count (uniform tiles, one quad per "
+               "pixel); writes sweep.json, sweep.csv, plots, overlays and index.html");
+  addCommon(sweep, sweepC);
+  sweep->add_option("--tau", sweepTaus,
+                    "Comma-separated thresholds in z' units, e.g. '2^8,2^11,2^15' (default "
+                    "2^6..2^16)");
+  sweep->add_flag("--five-point-only", sweepOneCriterion, "Skip the per-axis-max criterion");
+  sweep->add_flag("--no-baselines", sweepNoBaselines, "Skip uniform tiles and per-pixel meshes");
+  sweep->add_option("--overlay-frame", sweepOverlayFrame,
+                    "Frame whose quad mesh is drawn per tau (default: the middle keyframe)");
+  sweep->add_option("--out", sweepOut, "Output directory")->capture_default_str();
+  sweep->add_flag("--quiet", sweepQuiet, "No progress line");
+
+  // bench
+  std::string benchOut = "out/bench", benchSizes;
+  bool benchQuick = false, benchQuiet = false;
+  auto* benchCmd = app.add_subcommand(
+      "bench", "Frame-timing benchmark: geometry vs in-between ms over scene sizes 100k..4M "
+               "triangles (tau 2^11, 2^15), a walkthrough trace with per-stage ms, and PSNR vs "
+               "keyframe spacing; writes bench.json, CSVs, plots and index.html");
+  benchCmd->add_option("--out", benchOut, "Output directory")->capture_default_str();
+  benchCmd->add_option("--sizes", benchSizes,
+                       "Comma-separated triangle counts for the complexity part (k/M suffixes), "
+                       "default 100k,300k,1M,2M,4M");
+  benchCmd->add_flag("--quick", benchQuick, "Small version (sizes 100k,300k; fewer frames)");
+  benchCmd->add_flag("--quiet", benchQuiet, "No progress lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -262,6 +298,76 @@ int main(int argc, char** argv) {
   }
 
   if (render->parsed()) return runRender(renderC, renderOut);
+
+  if (benchCmd->parsed()) {
+    bench::BenchOptions bo;
+    bo.outDir = benchOut;
+    bo.progress = !benchQuiet;
+    if (benchQuick) {
+      bo.sizes = {100000, 300000};
+      bo.keyframeSpacings = {5, 10, 20};
+      bo.renderFrames = 6;
+      bo.walkFrames = 21;
+    }
+    if (!benchSizes.empty()) {
+      bo.sizes.clear();
+      std::size_t start = 0;
+      while (start < benchSizes.size()) {
+        std::size_t end = benchSizes.find(',', start);
+        if (end == std::string::npos) end = benchSizes.size();
+        std::string t = benchSizes.substr(start, end - start);
+        double mul = 1;
+        if (!t.empty() && (t.back() == 'k' || t.back() == 'K')) mul = 1e3, t.pop_back();
+        else if (!t.empty() && (t.back() == 'm' || t.back() == 'M')) mul = 1e6, t.pop_back();
+        double v = 0;
+        if (!parseTau(t, &v) || v * mul < 1000 || v * mul > 5e7)
+          return fail("--sizes: expected triangle counts between 1k and 50M like 100k,1M, got '" +
+                      benchSizes.substr(start, end - start) + "'");
+        bo.sizes.push_back(static_cast<std::size_t>(v * mul));
+        start = end + 1;
+      }
+    }
+    auto ctx = gl::createHeadlessContext();
+    if (!ctx) return fail(ctx.error().message);
+    bo.glRenderer = (*ctx)->renderer();
+    bo.glVersion = (*ctx)->version();
+    auto res = bench::runBenchSuite(bo);
+    if (!res) return fail(res.error().message);
+    std::printf("bench: done in %.0f s; open %s/index.html; data in bench.json and CSVs\n",
+                (*res)["elapsed_s"].get<double>(), benchOut.c_str());
+    return 0;
+  }
+
+  if (sweep->parsed()) {
+    bench::SweepOptions so;
+    std::size_t start = 0;
+    while (start < sweepTaus.size()) {
+      std::size_t end = sweepTaus.find(',', start);
+      if (end == std::string::npos) end = sweepTaus.size();
+      const std::string t = sweepTaus.substr(start, end - start);
+      double v = 0;
+      if (!parseTau(t, &v))
+        return fail("--tau: expected comma-separated non-negative numbers like 2^11,2^15, got '" + t + "'");
+      so.taus.push_back(v);
+      start = end + 1;
+    }
+    so.bothCriteria = !sweepOneCriterion;
+    so.baselines = !sweepNoBaselines;
+    so.maxFrames = sweepC.frames;
+    so.depthMode = depthModeOf(sweepC.depth);
+    so.overlayFrame = sweepOverlayFrame;
+    so.outDir = sweepOut;
+    so.progress = !sweepQuiet;
+    auto in = loadInputs(sweepC);
+    if (!in) return fail(in.error().message);
+    so.glRenderer = in->context->renderer();
+    so.glVersion = in->context->version();
+    auto res = bench::runSweep(in->scene, sweepC.scene, in->path, so);
+    if (!res) return fail(res.error().message);
+    std::printf("sweep: %zu runs; open %s/index.html (plots, table, overlays); data in sweep.json, sweep.csv\n",
+                (*res)["rows"].size(), sweepOut.c_str());
+    return 0;
+  }
 
   if (lod->parsed()) {
     keyframe::LodOptions lo;

@@ -82,7 +82,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   auto& warper = **warperR;
 
   keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery};
-  keyframe::KeyframeCache cache(renderer, opt.lod, [&](int i) { return path.cameraAt(i); });
+  keyframe::KeyframeCache cache(renderer, keyframe::MeshSpec{opt.mesh, opt.lod, opt.tileSize},
+                                [&](int i) { return path.cameraAt(i); });
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
   std::map<int, warp::WarpStats> uploadStats;
 
@@ -92,7 +93,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   Image<Rgba8> reference;
   json framesJson = json::array();
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
-      keyframeMs, quadsPerKeyframe, warpMs, composeMs;
+      keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames);
 
   // Strip frames: spread over the in-between frames.
@@ -120,6 +121,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       keyframeMs.push_back((*kf)->renderMs + (*kf)->mesh.stats.deltaMs +
                            (*kf)->mesh.stats.subdivideMs + (*kf)->mesh.stats.cornersMs + ws.uploadMs);
       quadsPerKeyframe.push_back(static_cast<double>((*kf)->mesh.stats.quads));
+      const auto& ms = (*kf)->mesh.stats;
+      lodBuildMs.push_back(ms.deltaMs + ms.subdivideMs + ms.cornersMs);
+      onePixelLeaves.push_back(static_cast<double>(ms.onePixelLeaves));
     }
     return {};
   };
@@ -255,6 +259,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["tau"] = opt.lod.tauParallaxPx > 0 ? json(nullptr) : json(opt.lod.tau);
   summary["tau_parallax_px"] = opt.lod.tauParallaxPx;
   summary["criterion"] = keyframe::deltaCriterionName(opt.lod.criterion);
+  summary["mesh"] = keyframe::meshMethodName(opt.mesh);
+  summary["tile_size"] = opt.mesh == keyframe::MeshMethod::UniformTiles ? json(opt.tileSize) : json(nullptr);
   summary["depth_mode"] = depthModeName(opt.depthMode);
   summary["compose_mode"] = gapfill::composeModeName(opt.compose.mode);
   summary["texcoords"] = warp::texcoordModeName(opt.warp.texcoords);
@@ -269,6 +275,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["compose_ms"] = stats(composeMs);
   summary["reference_ms"] = stats(referenceMs);
   summary["keyframe_build_ms"] = stats(keyframeMs);
+  summary["lod_build_ms"] = stats(lodBuildMs);
+  summary["one_pixel_leaves_per_keyframe"] = stats(onePixelLeaves);
   summary["speedup_reference_over_in_between"] = stats(speedup);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;

@@ -12,6 +12,7 @@
 #include "core/result.h"
 #include "gapfill/compose.h"
 #include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_cache.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
@@ -21,6 +22,8 @@ namespace hw::bench {
 
 struct WalkOptions {
   keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
+  keyframe::MeshMethod mesh = keyframe::MeshMethod::Lod;  // or a baseline (sweep)
+  int tileSize = 8;                             // pixels, MeshMethod::UniformTiles
   DepthMode depthMode = DepthMode::Fixed24;     // keyframe depth buffer
   gapfill::ComposeOptions compose;              // paper's overlay or depth merge
   warp::WarpOptions warp;                       // texcoords, sky backdrop

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "keyframe/baseline_mesh.h"
 #include "core/timer.h"
 
 namespace hw::keyframe {
@@ -18,9 +19,18 @@ std::pair<int, int> KeyframeSchedule::bracket(int frame) const {
   return {k0, std::min(k0 + keyframeEvery, frames - 1)};
 }
 
-KeyframeCache::KeyframeCache(GeometryRenderer& renderer, LodOptions lod,
+const char* meshMethodName(MeshMethod m) {
+  switch (m) {
+    case MeshMethod::Lod: return "lod";
+    case MeshMethod::UniformTiles: return "uniform-tiles";
+    case MeshMethod::PerPixel: return "per-pixel";
+  }
+  return "?";
+}
+
+KeyframeCache::KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh,
                              std::function<Camera(int)> cameraOf, std::size_t capacity)
-    : renderer_(renderer), lod_(lod), cameraOf_(std::move(cameraOf)), capacity_(capacity) {
+    : renderer_(renderer), mesh_(mesh), cameraOf_(std::move(cameraOf)), capacity_(capacity) {
   HW_CHECK_GE(capacity_, std::size_t{2});
 }
 
@@ -42,7 +52,23 @@ Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
   e->frame = frame;
   HW_TRY(renderer_.renderKeyframe(cameraOf_(frame), e->keyframe, &e->render));
   e->renderMs = e->render.drawMs + e->render.readbackMs;
-  HW_TRY(builder_.build(e->keyframe, lod_, &e->mesh));
+  switch (mesh_.method) {
+    case MeshMethod::Lod:
+      HW_TRY(builder_.build(e->keyframe, mesh_.lod, &e->mesh));
+      break;
+    case MeshMethod::UniformTiles: {
+      auto m = buildUniformTiles(e->keyframe, mesh_.tileSize, &builder_);
+      if (!m) return m.error();
+      e->mesh = std::move(*m);
+      break;
+    }
+    case MeshMethod::PerPixel: {
+      auto m = buildPerPixel(e->keyframe, &builder_);
+      if (!m) return m.error();
+      e->mesh = std::move(*m);
+      break;
+    }
+  }
   ++builds_;
   entries_.push_back(std::move(e));
   if (built) *built = true;

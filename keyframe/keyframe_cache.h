@@ -26,6 +26,21 @@ struct KeyframeSchedule {
   std::pair<int, int> bracket(int frame) const;
 };
 
+// How a keyframe becomes a quad mesh: the paper's Δ²z' subdivision, or one of
+// the baselines the sweep compares it with at matched quad count.
+enum class MeshMethod {
+  Lod,           // binary subdivision with LodOptions (Zheng et al. 1999 §1.2)
+  UniformTiles,  // square tiles of tileSize pixels, empty tiles removed (Rail-Track viewer)
+  PerPixel,      // one quad per covered pixel (post-rendering warping)
+};
+const char* meshMethodName(MeshMethod m);  // "lod", "uniform-tiles", "per-pixel"
+
+struct MeshSpec {
+  MeshMethod method = MeshMethod::Lod;
+  LodOptions lod;
+  int tileSize = 8;  // UniformTiles only, pixels
+};
+
 struct CachedKeyframe {
   int frame = 0;
   Keyframe keyframe;
@@ -37,7 +52,7 @@ struct CachedKeyframe {
 class KeyframeCache {
  public:
   // `renderer` must outlive the cache. capacity ≥ 2.
-  KeyframeCache(GeometryRenderer& renderer, LodOptions lod, std::function<Camera(int)> cameraOf,
+  KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh, std::function<Camera(int)> cameraOf,
                 std::size_t capacity = 3);
   // The keyframe of `frame`, built if not cached. *built tells whether it was.
   Result<const CachedKeyframe*> get(int frame, bool* built = nullptr);
@@ -45,7 +60,7 @@ class KeyframeCache {
 
  private:
   GeometryRenderer& renderer_;
-  LodOptions lod_;
+  MeshSpec mesh_;
   std::function<Camera(int)> cameraOf_;
   std::size_t capacity_;
   LodBuilder builder_;

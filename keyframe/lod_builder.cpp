@@ -390,22 +390,87 @@ Status LodBuilder::build(ImageView<const double> zPrime, ImageView<const std::ui
   return {};
 }
 
-Status LodBuilder::build(const Keyframe& kf, const LodOptions& options, QuadMesh* out) {
-  HW_CHECK(out != nullptr);
+namespace {
+
+// The keyframe-level checks of build(keyframe) (the image-level ones are in
+// prepare()).
+Status validateKeyframeImages(const Keyframe& kf) {
   const int w = kf.zPrime.width(), h = kf.zPrime.height();
   if (kf.colour.width() != w || kf.colour.height() != h) {
-    out->quads.clear();
-    out->stats = QuadMeshStats{};
     return makeError("LOD builder: keyframe depth is " + sizeStr(w, h) + " but colour is " +
                      sizeStr(kf.colour.width(), kf.colour.height()));
   }
   if (!kf.eyeZ.empty() && (kf.eyeZ.width() != w || kf.eyeZ.height() != h)) {
-    out->quads.clear();
-    out->stats = QuadMeshStats{};
     return makeError("LOD builder: keyframe depth is " + sizeStr(w, h) + " but eyeZ is " +
                      sizeStr(kf.eyeZ.width(), kf.eyeZ.height()));
   }
+  return {};
+}
+
+// Appends rather than `"[" + std::to_string(...)`, which trips GCC 12's
+// -Wrestrict false positive at -O3.
+std::string rectStr(const PixelRect& r) {
+  std::string s = "[";
+  s += std::to_string(r.x0);
+  s += ", ";
+  s += std::to_string(r.x1);
+  s += ") x [";
+  s += std::to_string(r.y0);
+  s += ", ";
+  s += std::to_string(r.y1);
+  s += ")";
+  return s;
+}
+
+}  // namespace
+
+Status LodBuilder::build(const Keyframe& kf, const LodOptions& options, QuadMesh* out) {
+  HW_CHECK(out != nullptr);
+  if (Status st = validateKeyframeImages(kf); !st.ok()) {
+    out->quads.clear();
+    out->stats = QuadMeshStats{};
+    return st;
+  }
   return build(kf.zPrime.view(), kf.covered.view(), kf.camera, options, out);
+}
+
+Status LodBuilder::buildFromRects(const Keyframe& kf, std::span<const PixelRect> rects,
+                                  const LodOptions& options, QuadMesh* out) {
+  HW_CHECK(out != nullptr);
+  out->quads.clear();
+  out->stats = QuadMeshStats{};
+  out->width = out->height = 0;
+  HW_TRY(validateKeyframeImages(kf));
+  HW_TRY(prepare(kf.zPrime.view(), kf.covered.view(), kf.camera, options));
+  const int w = valid_.width(), h = valid_.height();
+  // recoverCorners() relies on every rectangle being fully valid (the fit
+  // assumes the full grid; maxDelta assumes Δ >= 0). Scanning the rectangles
+  // costs the same order as the fit itself.
+  for (std::size_t k = 0; k < rects.size(); ++k) {
+    const PixelRect& r = rects[k];
+    if (!(r.x0 >= 0 && r.y0 >= 0 && r.x0 < r.x1 && r.y0 < r.y1 && r.x1 <= w && r.y1 <= h)) {
+      prepared_ = false;
+      return makeError("LOD builder: rectangle " + std::to_string(k) + " " + rectStr(r) +
+                       " is empty or not inside the " + sizeStr(w, h) + " image");
+    }
+    for (int y = r.y0; y < r.y1; ++y) {
+      const std::uint8_t* row = valid_.view().row(y);
+      const void* hole = std::memchr(row + r.x0, 0, static_cast<std::size_t>(r.width()));
+      if (hole != nullptr) {
+        prepared_ = false;
+        const int x = static_cast<int>(static_cast<const std::uint8_t*>(hole) - row);
+        return makeError("LOD builder: rectangle " + std::to_string(k) + " " + rectStr(r) +
+                         " holds the empty pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                         "); every pixel must be covered with finite z'");
+      }
+    }
+  }
+  leaves_.assign(rects.begin(), rects.end());
+  const double cornersMs = recoverCorners(out);
+  out->stats.deltaMs = deltaMs_;
+  out->stats.subdivideMs = 0.0;
+  out->stats.cornersMs = cornersMs;
+  return {};
 }
 
 Result<QuadMesh> buildQuadMesh(const Keyframe& keyframe, const LodOptions& options) {

@@ -4,6 +4,7 @@
 // subdivision"). Corners are a least-squares plane fit of z' evaluated at the
 // leaf's outer pixel edges (the paper's half-pixel expansion).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/camera.h"
@@ -64,6 +65,20 @@ class LodBuilder {
                const Camera& camera, const LodOptions& options, QuadMesh* out);
   // Same on a keyframe; its colour (and eyeZ, if non-empty) must match too.
   Status build(const Keyframe& keyframe, const LodOptions& options, QuadMesh* out);
+
+  // Corner recovery for caller-given rectangles instead of the subdivision's
+  // leaves (baselines at a matched quad count: uniform tiles, one quad per
+  // pixel; see baseline_mesh.h). Same validation as build(keyframe), plus an
+  // error when a rectangle is empty (x0 >= x1 or y0 >= y1), not inside the
+  // image, or holds an empty pixel (covered == 0 or non-finite z'). Overlap is
+  // not checked. One quad per rectangle, in the given order, with the same
+  // plane fit, evaluation at the outer pixel edges and clamping as build();
+  // maxDelta is the max |Δ²| over the rectangle, with Δ computed by
+  // options.criterion. options.tau / tauParallaxPx cut nothing here: they are
+  // only validated and reported in the stats (subdivideMs is 0). leaves()
+  // then holds `rects`. On error *out is left empty.
+  Status buildFromRects(const Keyframe& keyframe, std::span<const PixelRect> rects,
+                        const LodOptions& options, QuadMesh* out);
 
   // The three steps of build(), exposed for benchmarks and tools. Call
   // prepare() first; the views must outlive the following steps.

@@ -1,0 +1,32 @@
+#pragma once
+// The frame-timing benchmark behind `hybridwalk bench`: (a) scene complexity —
+// geometry ms vs in-between ms of the built-in scenes from 100k to 4M
+// triangles at the paper's two thresholds; (b) a walkthrough trace — per-frame
+// and per-stage ms with keyframes marked; (c) keyframe spacing — PSNR vs
+// keyframe_every. Writes bench.json, CSVs, PNG plots and index.html.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+
+namespace hw::bench {
+
+struct BenchOptions {
+  std::string outDir = "out/bench";
+  std::vector<std::size_t> sizes{100000, 300000, 1000000, 2000000, 4000000};  // triangles
+  std::vector<double> taus{2048.0, 32768.0};                                   // z' units
+  std::vector<int> keyframeSpacings{2, 4, 6, 10, 15, 20, 30, 40};
+  int renderFrames = 20;  // geometry-only frames per size (first one is warm-up)
+  int walkFrames = 41;    // frames per walk in the complexity part
+  std::string traceScene = "indoor";  // built-in scene for the trace and spacing parts
+  bool progress = true;
+  std::string glRenderer, glVersion;
+};
+
+// A GL context must be current. Returns the bench.json document.
+Result<nlohmann::json> runBenchSuite(const BenchOptions& options);
+
+}  // namespace hw::bench
