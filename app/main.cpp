@@ -287,7 +287,8 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--sizes", benchSizes,
                        "Comma-separated triangle counts for the complexity part (k/M suffixes), "
                        "default 100k,300k,1M,2M,4M");
-  benchCmd->add_flag("--quick", benchQuick, "Small version (sizes 100k,300k; fewer frames)");
+  benchCmd->add_flag("--quick", benchQuick,
+                     "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings");
   benchCmd->add_flag("--quiet", benchQuiet, "No progress lines");
 
   try {
@@ -308,6 +309,7 @@ int main(int argc, char** argv) {
       bo.keyframeSpacings = {5, 10, 20};
       bo.renderFrames = 6;
       bo.walkFrames = 21;
+      bo.traceTriangles = 100000;
     }
     if (!benchSizes.empty()) {
       bo.sizes.clear();

@@ -136,7 +136,7 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
   }
 
   // (b) Walkthrough trace and (c) keyframe spacing, on the trace scene at 1M.
-  const std::size_t traceTris = 1000000;
+  const std::size_t traceTris = opt.traceTriangles;
   say(opt.progress, "bench: walkthrough trace %s\n", opt.traceScene + " " + sizeLabel(traceTris));
   const scenes::Scene traceScene = makeScene(opt.traceScene, traceTris);
   const scenes::CameraPath tracePath = pathFor(opt.traceScene);

@@ -22,6 +22,7 @@ struct BenchOptions {
   int renderFrames = 20;  // geometry-only frames per size (first one is warm-up)
   int walkFrames = 41;    // frames per walk in the complexity part
   std::string traceScene = "indoor";  // built-in scene for the trace and spacing parts
+  std::size_t traceTriangles = 1000000;
   bool progress = true;
   std::string glRenderer, glVersion;
 };

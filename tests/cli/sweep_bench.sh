@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Small real runs of `sweep` and `bench`: outputs exist, tables have the
+# expected rows, plots are PNGs, and bad options are refused.
+# Usage: sweep_bench.sh HYBRIDWALK SOURCE_DIR
+set -u
+hw=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+check() {
+  local name=$1; shift
+  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
+}
+is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+
+"$hw" sweep --scene indoor:20k --frames 11 --tau 2^8,2^11,2^15 --out "$tmp/s" --quiet >"$tmp/out" 2>&1
+check "sweep exits 0 ($(tail -2 "$tmp/out"))" test $? -eq 0
+check "sweep.json" test -s "$tmp/s/sweep.json"
+# 3 taus x 2 criteria + tile baselines (1..3, deduplicated) + per-pixel, plus a header line.
+rows=$(($(wc -l <"$tmp/s/sweep.csv") - 1))
+check "sweep.csv has 8..10 rows (got $rows)" test "$rows" -ge 8 -a "$rows" -le 10
+check "five-point rows" test "$(grep -c ',five-point,' "$tmp/s/sweep.csv")" -eq 3
+check "per-axis rows" test "$(grep -c ',per-axis-max,' "$tmp/s/sweep.csv")" -eq 3
+check "per-pixel row" grep -q '^per-pixel,' "$tmp/s/sweep.csv"
+check "uniform tile rows" grep -q '^uniform-tiles,' "$tmp/s/sweep.csv"
+for p in pareto quads_vs_tau psnr_vs_tau; do check "$p.png" is_png "$tmp/s/$p.png"; done
+check "3 overlays" test "$(ls "$tmp/s/overlays" | wc -l)" -eq 3
+check "index.html links the plot" grep -q 'pareto.png' "$tmp/s/index.html"
+
+"$hw" bench --quick --sizes 20k,40k --quiet --out "$tmp/b" >"$tmp/bout" 2>&1
+check "bench exits 0 ($(tail -2 "$tmp/bout"))" test $? -eq 0
+check "bench.json" grep -q '"complexity"' "$tmp/b/bench.json"
+for p in complexity trace spacing; do check "$p.png" is_png "$tmp/b/$p.png"; done
+check "complexity.csv rows" test "$(($(wc -l <"$tmp/b/complexity.csv") - 1))" -eq 8
+check "index.html" grep -q 'Keyframe spacing' "$tmp/b/index.html"
+
+"$hw" sweep --tau 2^x --out "$tmp/bad" --quiet >/dev/null 2>"$tmp/err"
+check "sweep bad tau refused" test $? -ne 0
+check "sweep bad tau message" grep -q "tau" "$tmp/err"
+check "sweep bad tau wrote nothing" test ! -e "$tmp/bad"
+"$hw" bench --sizes 10 --out "$tmp/bad2" >/dev/null 2>"$tmp/err"
+check "bench bad sizes refused" test $? -ne 0
+check "bench bad sizes message" grep -q "sizes" "$tmp/err"
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]
