@@ -54,7 +54,6 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   HW_TRY(ensureWritableDir(opt.outDir + "/overlays"));
 
   const int frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
-  keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery};
   int overlayFrame = opt.overlayFrame;
   if (overlayFrame < 0) {
     overlayFrame = (frames / 2) / path.keyframeEvery * path.keyframeEvery;

@@ -19,9 +19,10 @@ namespace hw {
 namespace {
 
 std::string tempDir() {
-  const auto d = std::filesystem::temp_directory_path() /
-                 ("hw_pfm_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                  "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  const auto d =
+      std::filesystem::temp_directory_path() /
+      ("hw_pfm_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name());
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d.string();
@@ -138,17 +139,17 @@ TEST(Pfm, ThreeChannelFileIsRejected) {
 TEST(Pfm, GarbageHeadersAreErrorsNamingTheFile) {
   const std::string pix(4, '\0');
   const char* bad[] = {
-      "P6\n1 1\n255\n",     // another format
-      "Pf\nx 1\n-1.0\n",    // non-numeric width
-      "Pf\n1 1.5\n-1.0\n",  // non-integer height
-      "Pf\n0 1\n-1.0\n",    // zero width
-      "Pf\n-1 1\n-1.0\n",   // negative width
+      "P6\n1 1\n255\n",          // another format
+      "Pf\nx 1\n-1.0\n",         // non-numeric width
+      "Pf\n1 1.5\n-1.0\n",       // non-integer height
+      "Pf\n0 1\n-1.0\n",         // zero width
+      "Pf\n-1 1\n-1.0\n",        // negative width
       "Pf\n1 99999999\n-1.0\n",  // absurd height
-      "Pf\n1 1\n0.0\n",     // zero scale: no endianness
-      "Pf\n1 1\nnan\n",     // non-finite scale
-      "Pf\n1 1\n-1.0x\n",   // junk after the scale
-      "Pf\n1 1\n-1.0",      // no separator before the pixels
-      "",                   // empty
+      "Pf\n1 1\n0.0\n",          // zero scale: no endianness
+      "Pf\n1 1\nnan\n",          // non-finite scale
+      "Pf\n1 1\n-1.0x\n",        // junk after the scale
+      "Pf\n1 1\n-1.0",           // no separator before the pixels
+      "",                        // empty
   };
   for (const char* h : bad) {
     auto r = decodePfm(std::string(h) + pix, "junk.pfm");

@@ -32,7 +32,9 @@ void checkMesh(const keyframe::Keyframe& kf, const keyframe::LodBuilder& b,
         ++count(x, y);
         maxD = std::max(maxD, b.delta()(x, y));
       }
-    if (q.rect.area() > 1) ASSERT_LE(maxD, tau) << "leaf " << q.rect.x0 << "," << q.rect.y0;
+    if (q.rect.area() > 1) {
+      ASSERT_LE(maxD, tau) << "leaf " << q.rect.x0 << "," << q.rect.y0;
+    }
     for (int k = 0; k < 4; ++k) {
       ASSERT_TRUE(std::isfinite(q.world[k].x) && std::isfinite(q.world[k].y) &&
                   std::isfinite(q.world[k].z));
