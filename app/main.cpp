@@ -10,6 +10,7 @@
 #include <string>
 
 #include "bench/bench_suite.h"
+#include "bench/export.h"
 #include "bench/sweep.h"
 #include "bench/walk.h"
 #include "core/file_io.h"
@@ -291,6 +292,22 @@ int main(int argc, char** argv) {
                      "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings");
   benchCmd->add_flag("--quiet", benchQuiet, "No progress lines");
 
+  // export-keyframes
+  Common exportC;
+  std::string exportOut = "out/keyframes";
+  bool exportNoInBetween = false, exportQuiet = false;
+  auto* exportCmd = app.add_subcommand(
+      "export-keyframes",
+      "Write the path's keyframes for other view-synthesis tools: NAME.png (RGB), "
+      "NAME.depth.pfm (float32 eye-space depth along the view direction, 0 = nothing drawn) and "
+      "cameras.json (fx, fy, cx, cy in pixels with pixel centres at +0.5, near, far, "
+      "world_from_camera 4x4 row-major in OpenCV axes: x right, y down, z forward); also the "
+      "in-between cameras and their reference images");
+  addCommon(exportCmd, exportC);
+  exportCmd->add_flag("--no-in-between", exportNoInBetween, "Keyframes only");
+  exportCmd->add_option("--out", exportOut, "Output directory")->capture_default_str();
+  exportCmd->add_flag("--quiet", exportQuiet, "No progress line");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -299,6 +316,21 @@ int main(int argc, char** argv) {
   }
 
   if (render->parsed()) return runRender(renderC, renderOut);
+
+  if (exportCmd->parsed()) {
+    auto in = loadInputs(exportC);
+    if (!in) return fail(in.error().message);
+    bench::ExportOptions eo;
+    eo.inBetween = !exportNoInBetween;
+    eo.maxFrames = exportC.frames;
+    eo.progress = !exportQuiet;
+    eo.depthMode = depthModeOf(exportC.depth);
+    if (auto st = bench::exportKeyframes(in->scene, in->path, exportOut, eo); !st)
+      return fail(st.error().message);
+    std::printf("exported keyframes of %s to %s (cameras.json lists them)\n", exportC.scene.c_str(),
+                exportOut.c_str());
+    return 0;
+  }
 
   if (benchCmd->parsed()) {
     bench::BenchOptions bo;

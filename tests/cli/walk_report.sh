@@ -36,5 +36,12 @@ check "render.json" grep -q '"triangles"' "$tmp/r/render.json"
 check "lod exits 0" test $? -eq 0
 check "lod overlay" test -s "$tmp/l/overlay.png"
 check "lod stats" grep -q '"quads"' "$tmp/l/overlay.json"
+"$hw" export-keyframes --scene indoor:20k --frames 12 --quiet --out "$tmp/e" >"$tmp/eout" 2>&1
+check "export exits 0 ($(tail -2 "$tmp/eout"))" test $? -eq 0
+check "export cameras.json" grep -q '"world_from_camera"' "$tmp/e/cameras.json"
+check "export keyframe png" test -s "$tmp/e/key_0000.png"
+check "export keyframe depth" test -s "$tmp/e/key_0000.depth.pfm"
+check "export last frame is a keyframe" test -s "$tmp/e/key_0011.png"
+check "export in-between reference" test -s "$tmp/e/frame_0005.png"
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]
