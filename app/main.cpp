@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/viewer.h"
 #include "bench/bench_suite.h"
 #include "bench/export.h"
 #include "bench/sweep.h"
@@ -308,6 +309,34 @@ int main(int argc, char** argv) {
   exportCmd->add_option("--out", exportOut, "Output directory")->capture_default_str();
   exportCmd->add_flag("--quiet", exportQuiet, "No progress line");
 
+  // view
+  Common viewC;
+  app::ViewerOptions vo;
+  std::string viewTau = "2^11";
+  bool viewGeometry = false, viewNoHud = false;
+  auto* viewCmd = app.add_subcommand(
+      "view", "Interactive viewer (GLFW window; needs a display, e.g. xvfb-run): fly with the "
+              "right mouse button held + W/A/S/D/Q/E (Shift x4, +/- speed), g hybrid/geometry, "
+              "w wireframe/quad outlines, s statistics, o overlay, m hole mask, p PSNR, c "
+              "screenshot, z/Z record/play path, space home, h help, Esc quit");
+  viewCmd->add_option("--scene", viewC.scene, "Scene, as for walk")->capture_default_str();
+  viewCmd->add_option("--path", viewC.path, "Camera path JSON to play (default: the scene's own)");
+  viewCmd->add_option("--tau", viewTau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->capture_default_str();
+  viewCmd->add_option("--width", vo.width, "Window width, pixels")->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  viewCmd->add_option("--height", vo.height, "Window height, pixels")->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  viewCmd->add_flag("--play", vo.play, "Replay the camera path (--path, or the scene's default)");
+  viewCmd->add_option("--exit-after", vo.exitAfterFrames,
+                      "Quit after this many frames (scripted runs; 0 = when closed)")
+      ->check(CLI::NonNegativeNumber);
+  viewCmd->add_option("--screenshot", vo.screenshotPath, "Write the last frame to this PNG on exit");
+  viewCmd->add_option("--record", vo.recordPath, "Camera path file for z (record) / Z (play)");
+  viewCmd->add_option("--keys", vo.keys, "Keys typed before the first frame, e.g. 'so'");
+  viewCmd->add_flag("--geometry", viewGeometry, "Start in geometry mode instead of hybrid");
+  viewCmd->add_flag("--no-hud", viewNoHud, "No on-screen text");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -316,6 +345,22 @@ int main(int argc, char** argv) {
   }
 
   if (render->parsed()) return runRender(renderC, renderOut);
+
+  if (viewCmd->parsed()) {
+    if (!parseTau(viewTau, &vo.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + viewTau + "'");
+    if (!viewC.path.empty()) {
+      vo.playPath = viewC.path;
+    }
+    vo.sceneLabel = viewC.scene;
+    vo.startHybrid = !viewGeometry;
+    vo.hud = !viewNoHud;
+    auto s = scenes::loadScene(viewC.scene);
+    if (!s) return fail(s.error().message);
+    auto p = scenes::defaultPathFor(viewC.scene);
+    if (!p) return fail(p.error().message);
+    return app::runViewer(*s, *p, vo);
+  }
 
   if (exportCmd->parsed()) {
     auto in = loadInputs(exportC);

@@ -1,12 +1,44 @@
 #!/usr/bin/env bash
-# Install what is missing, build release with warnings as errors, and run the
-# whole test suite (CPU, GL on OSMesa, command-line) through CTest.
+# Install what is missing, build, and run the whole test suite:
+#  1. release build (warnings as errors): every CTest (CPU, GL on OSMesa, the
+#     windowed GLFW tests under Xvfb, command-line tests);
+#  2. the CPU tests again under AddressSanitizer + UBSan (asan preset);
+#  3. each libFuzzer target for a bounded time from its committed seed corpus.
+# HW_TEST_QUICK=1 runs step 1 only. HW_FUZZ_SECONDS sets step 3's time per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh release -DHW_WERROR=ON
-cd build
 # llvmpipe threads: 2 gave the steadiest figures here (NOTES-GL.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
-# Under Xvfb, so the windowed (GLFW) tests run for real; headless tests use OSMesa.
-xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 2 --timeout 600
+(cd build && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 2 --timeout 600)
+[ "${HW_TEST_QUICK:-0}" = 1 ] && exit 0
+
+echo "== CPU tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+cpu_targets=$(for f in tests/cpu/*_test.cpp; do basename "$f" .cpp; done)
+cmake --preset asan -DHW_WERROR=ON >/dev/null
+# shellcheck disable=SC2086
+cmake --build build-asan -j "$(nproc)" --target $cpu_targets
+(cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+  ctest --output-on-failure -j 2 -L cpu --timeout 600)
+
+echo "== libFuzzer targets (${HW_FUZZ_SECONDS:-20} s each)"
+cmake --preset fuzz >/dev/null
+fuzzers=$(for f in */*_fuzz.cpp; do basename "$f" .cpp; done)
+# shellcheck disable=SC2086
+cmake --build build-fuzz -j "$(nproc)" --target $fuzzers
+for fz in $fuzzers; do
+  seeds=tests/fuzz/${fz%_fuzz}
+  work=$(mktemp -d)
+  echo "-- $fz (seeds: $seeds)"
+  # New inputs go to the scratch dir; the committed corpus is only read.
+  status=0
+  build-fuzz/bin/"$fz" -max_total_time="${HW_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=4096 \
+    -print_final_stats=1 "$work" "$seeds" >"$work.log" 2>&1 || status=$?
+  grep -E "stat::number_of_executed_units|ERROR|SUMMARY|==[0-9]+==|Done" "$work.log" | head -40 || true
+  if [ "$status" -ne 0 ]; then tail -60 "$work.log"; fi
+  rm -f "$work.log"
+  rm -rf "$work"
+  if [ "$status" -ne 0 ]; then echo "$fz failed (exit $status)"; exit 1; fi
+done
+echo "sanitizers and fuzzers: all passed"

@@ -1,0 +1,1167 @@
+// The interactive viewer: GLFW window, fly-through controls, hybrid frames
+// from two keyframes kept around the viewer (Zheng et al. 1999 §2), HUD.
+// Everything renders in the window's own context: the geometry renderer and
+// the warper draw into their FBOs, the composed frame is uploaded into a
+// texture and drawn with one full-screen triangle.
+#include "app/viewer.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <stb_easy_font.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/gl/gl_api.h"
+#include "core/gl/shader.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "gapfill/compose.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/overlay.h"
+#include "warp/warper.h"
+
+namespace hw::app {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMaxPitch = 89.0 * kPi / 180.0;
+constexpr double kMouseRadiansPerPixel = 0.0025;
+constexpr double kShiftFactor = 4.0;
+constexpr double kSpeedStep = 1.5;
+constexpr double kMessageSeconds = 4.0;
+// Keyframe policy, in units of the pose distance s (keyframeDistance and
+// keyframeAngleDeg each count 1): a new keyframe is rendered ahead once the
+// viewer moves away from the newest one by more than kPassedNewest, a
+// keyframe farther than kUseless is not worth warping, and when no keyframe
+// is within kLost the view is re-rendered where it stands.
+constexpr double kPassedNewest = 0.25;
+constexpr double kUseless = 2.0;
+constexpr double kLost = 1.5;
+constexpr double kRecordStep = 0.25;  // a recorded key every this much s
+
+constexpr const char* kHelp =
+    "hybridwalk viewer keys\n"
+    "  right mouse held: mouse look, W/A/S/D fly, Q/E down/up\n"
+    "  arrows, PageUp/PageDown: move   Shift: x4   + / -: speed\n"
+    "  s      statistics: off / fps / per-stage ms, quads, holes\n"
+    "  w      wireframe (hybrid: warped quad outlines)\n"
+    "  f      full screen\n"
+    "  c      screenshot (PNG in the current directory)\n"
+    "  z      record a camera path (again: stop and save)\n"
+    "  Z      play the recorded path (again: stop)\n"
+    "  space  home          Esc  quit\n"
+    "  h      this help\n"
+    "  g      hybrid / geometry rendering\n"
+    "  o      quad overlay of the foreground keyframe\n"
+    "  m      hole mask (red: no keyframe covers)\n"
+    "  p      PSNR against the geometry reference\n";
+
+const char* kDisplayVs = R"(#version 450 core
+out vec2 vUv;
+void main() {
+  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+  vUv = vec2(p.x, 1.0 - p.y);  // texture row 0 is the image's top row
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+})";
+const char* kDisplayFs = R"(#version 450 core
+in vec2 vUv;
+uniform sampler2D colourTex;
+uniform sampler2D holeTex;
+uniform int showHoles;
+out vec4 outColour;
+void main() {
+  vec3 c = texture(colourTex, vUv).rgb;
+  if (showHoles != 0 && texture(holeTex, vUv).r > 0.5) c = mix(c, vec3(1.0, 0.0, 0.0), 0.7);
+  outColour = vec4(c, 1.0);
+})";
+const char* kLineVs = R"(#version 450 core
+layout(location = 0) in vec3 position;
+uniform mat4 viewProj;
+void main() { gl_Position = viewProj * vec4(position, 1.0); })";
+const char* kLineFs = R"(#version 450 core
+uniform vec4 colour;
+out vec4 outColour;
+void main() { outColour = colour; })";
+const char* kHudVs = R"(#version 450 core
+layout(location = 0) in vec2 position;  // pixels, y down
+layout(location = 1) in vec4 colour;
+uniform vec2 screen;
+uniform float scale;
+out vec4 vColour;
+void main() {
+  vec2 p = position * scale;
+  gl_Position = vec4(p.x / screen.x * 2.0 - 1.0, 1.0 - p.y / screen.y * 2.0, 0.0, 1.0);
+  vColour = colour;
+})";
+const char* kHudFs = R"(#version 450 core
+in vec4 vColour;
+out vec4 outColour;
+void main() { outColour = vColour; })";
+
+// stb_easy_font's vertex layout.
+struct EasyVertex {
+  float x, y, z;
+  unsigned char c[4];
+};
+static_assert(sizeof(EasyVertex) == 16);
+constexpr int kHudMaxQuads = 16384;
+
+// Characters and Esc from GLFW callbacks, drained once per frame.
+struct InputQueue {
+  std::array<unsigned, 64> chars{};
+  int count = 0;
+};
+
+void charCallback(GLFWwindow* w, unsigned codepoint) {
+  auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w));
+  if (q && q->count < static_cast<int>(q->chars.size())) q->chars[q->count++] = codepoint;
+}
+
+void keyCallback(GLFWwindow* w, int key, int, int action, int) {
+  if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
+}
+
+glm::dvec3 forwardFrom(double yaw, double pitch) {
+  return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
+}
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+}
+
+void setFloatMatrix(int location, const glm::dmat4& m) {
+  float f[16];
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) f[c * 4 + r] = static_cast<float>(m[c][r]);
+  glUniformMatrix4fv(location, 1, GL_FALSE, f);
+}
+
+// One keyframe around the viewer: its images, quad mesh, GPU copy and the
+// quads' outlines (GL_LINES, world space) for the wireframe view.
+struct Slot {
+  bool valid = false;
+  long serial = 0;  // build order; the highest is the newest
+  keyframe::Keyframe kf;
+  keyframe::QuadMesh mesh;
+  std::unique_ptr<warp::WarpSource> source;
+  unsigned lineVbo = 0;
+  int lineVertices = 0;
+};
+
+struct KeyframeStats {
+  double renderMs = 0, lodMs = 0, uploadMs = 0;
+  int quads = 0;
+};
+
+struct FrameStats {
+  bool hybrid = true;
+  bool direct = false;  // hybrid frame shown straight from a keyframe at this camera
+  bool builtKeyframe = false;
+  double geometryMs = 0;
+  std::size_t trianglesDrawn = 0;
+  double keyframeMs = 0;  // keyframe build during this frame (0 if none)
+  double warpAMs = 0, warpBMs = 0, composeMs = 0;
+  int quadsA = 0, quadsB = 0, layers = 0;
+  double holesBefore = 0, holesAfter = 0;
+};
+
+class Viewer {
+ public:
+  Viewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
+         const ViewerOptions& options)
+      : scene_(scene), defaultPath_(defaultPath), opt_(options) {}
+  ~Viewer() { releaseGl(); }
+  Viewer(const Viewer&) = delete;
+  Viewer& operator=(const Viewer&) = delete;
+
+  Status run();
+
+ private:
+  Status setUp();
+  void releaseGl();
+  Status resize(int w, int h);
+  void setPlayPath(const scenes::CameraPath& path);
+  void poseFromCamera(const Camera& c);
+  Camera cameraFromPose() const;
+  Camera sized(Camera c) const {
+    c.width = width_;
+    c.height = height_;
+    return c;
+  }
+  double poseDistance(const Camera& a, const Camera& b) const {
+    return glm::length(a.eye - b.eye) / kfDistance_ + angleBetween(a.forward, b.forward) / kfAngle_;
+  }
+  void handleChar(unsigned c, bool flying);
+  void updateCamera(double dt);
+  Status renderFrame();
+  Status renderHybrid(FrameStats& st);
+  Status buildKeyframe(Slot& slot, const Camera& cam);
+  Camera aheadCamera() const;
+  Status computePsnr();
+  void drawWindow();
+  void drawHud();
+  void hudBlock(float x, float y, char* text, const unsigned char colour[4]);
+  void readWindow(Image<Rgba8>& out);
+  Status screenshot(const std::string& path);
+  void toggleRecording();
+  void togglePlayRecorded();
+  void toggleFullScreen();
+  void message(const std::string& text);
+
+  const scenes::Scene& scene_;
+  const scenes::CameraPath& defaultPath_;
+  const ViewerOptions& opt_;
+
+  // Declared first, destroyed last: every GL object below needs it.
+  std::unique_ptr<gl::WindowContext> ctx_;
+  GLFWwindow* win_ = nullptr;
+  InputQueue input_;
+  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
+  std::unique_ptr<warp::Warper> warper_;
+  keyframe::LodBuilder lod_;
+  keyframe::LodOptions lodOptions_;
+  gl::Program displayProg_, lineProg_, hudProg_;
+  int uShowHoles_ = -1, uViewProj_ = -1, uLineColour_ = -1, uScreen_ = -1, uScale_ = -1;
+  unsigned emptyVao_ = 0, lineVao_ = 0, hudVao_ = 0, hudVbo_ = 0, hudIbo_ = 0;
+  unsigned colourTex_ = 0, holeTex_ = 0, overlayTex_ = 0;
+
+  int width_ = 0, height_ = 0;  // framebuffer size = render size
+  Camera base_;                 // fov, near, far of the session
+  Camera home_;
+  Camera cam_, prevCam_;
+  glm::dvec3 eye_{0.0};
+  double yaw_ = 0, pitch_ = 0;
+  glm::dvec3 velocity_{0.0};  // smoothed, units/s
+  double yawRate_ = 0, pitchRate_ = 0;
+  double moveSpeed_ = 1;  // units/s
+  double kfDistance_ = 1, kfAngle_ = 0.25;
+  bool mouseLook_ = false;
+  double lastMouseX_ = 0, lastMouseY_ = 0;
+
+  bool hybrid_ = true, wireframe_ = false, overlay_ = false, holeMask_ = false, help_ = false;
+  int statsLevel_ = 1;  // 0 off, 1 fps, 2 per stage
+  bool play_ = false;
+  std::vector<Camera> playCams_;
+  int playIndex_ = 0;
+  bool recording_ = false;
+  scenes::CameraPath recorded_;
+  Camera lastRecordedKey_;
+  int recordedFrames_ = 0;
+  bool captureRequested_ = false, psnrRequested_ = false;
+  int windowedX_ = 0, windowedY_ = 0, windowedW_ = 0, windowedH_ = 0;
+
+  std::array<Slot, 2> slots_;
+  long serial_ = 0;
+  double newestSPrev_ = 0;
+  long newestSerialPrev_ = -1;
+  bool moving_ = false;
+  warp::Layer layerA_, layerB_;
+  gapfill::Frame frame_, previous_;
+  bool havePrevious_ = false;
+  gapfill::ComposeOptions composeOptions_;
+  KeyframeStats lastKeyframe_;
+  FrameStats stats_;
+  int foregroundSlot_ = -1;
+  long overlaySerial_ = -1;
+  int overlayW_ = 0, overlayH_ = 0;
+  Image<Rgba8> reference_, windowImage_;
+  std::vector<Rgba8> readScratch_;
+  std::vector<float> lineScratch_;
+  std::vector<EasyVertex> hudVerts_;
+  int hudQuads_ = 0;
+  char hudText_[2048] = {};
+  char messageText_[512] = {};
+  double messageUntil_ = 0;
+  char psnrText_[128] = {};
+  double psnrUntil_ = 0;
+  double frameMsSmoothed_ = 0;
+  long keyframesBuilt_ = 0;
+  long frameIndex_ = 0;
+  Stopwatch clock_;
+};
+
+Status Viewer::setUp() {
+  if (opt_.width < 16 || opt_.height < 16 || opt_.width > 16384 || opt_.height > 16384)
+    return makeError("window size must be in [16, 16384] pixels, got " +
+                     std::to_string(opt_.width) + "x" + std::to_string(opt_.height));
+  if (!(opt_.tau >= 0) || !std::isfinite(opt_.tau))
+    return makeError("tau must be finite and >= 0, got " + std::to_string(opt_.tau));
+  if (!(opt_.keyframeAngleDeg > 0 && opt_.keyframeAngleDeg < 180) ||
+      !(opt_.keyframeDistance >= 0) || !std::isfinite(opt_.keyframeDistance))
+    return makeError("keyframe thresholds: distance must be >= 0 and angle in (0, 180) degrees");
+  if (opt_.exitAfterFrames < 0)
+    return makeError("exit-after frame count must be >= 0, got " +
+                     std::to_string(opt_.exitAfterFrames));
+
+  scenes::CameraPath path = defaultPath_;
+  if (!opt_.playPath.empty()) {
+    auto p = scenes::loadCameraPath(opt_.playPath);
+    if (!p) return p.error();
+    path = std::move(*p);
+  }
+  if (opt_.play && path.keys.empty())
+    return makeError("--play needs a camera path with at least one key");
+
+  const std::string title =
+      "hybridwalk view" + (opt_.sceneLabel.empty() ? std::string() : " - " + opt_.sceneLabel);
+  auto ctx = gl::createWindowContext(opt_.width, opt_.height, title, opt_.visible);
+  if (!ctx) return ctx.error();
+  ctx_ = std::move(*ctx);
+  win_ = ctx_->window();
+  glfwSetWindowUserPointer(win_, &input_);
+  glfwSetCharCallback(win_, charCallback);
+  glfwSetKeyCallback(win_, keyCallback);
+  glfwSwapInterval(0);
+
+  auto r = keyframe::GeometryRenderer::create(scene_);
+  if (!r) return r.error();
+  renderer_ = std::move(*r);
+  warp::WarpOptions wopt;
+  wopt.writeEyeZ = false;  // overlay composition does not read it
+  auto w = warp::Warper::create(wopt);
+  if (!w) return w.error();
+  warper_ = std::move(*w);
+  lodOptions_.tau = opt_.tau;
+
+  auto dp = gl::Program::build("viewer display", kDisplayVs, kDisplayFs);
+  if (!dp) return dp.error();
+  displayProg_ = std::move(*dp);
+  auto lp = gl::Program::build("viewer lines", kLineVs, kLineFs);
+  if (!lp) return lp.error();
+  lineProg_ = std::move(*lp);
+  auto hp = gl::Program::build("viewer HUD", kHudVs, kHudFs);
+  if (!hp) return hp.error();
+  hudProg_ = std::move(*hp);
+  displayProg_.use();
+  glUniform1i(displayProg_.uniform("colourTex"), 0);
+  glUniform1i(displayProg_.uniform("holeTex"), 1);
+  uShowHoles_ = displayProg_.uniform("showHoles");
+  uViewProj_ = lineProg_.uniform("viewProj");
+  uLineColour_ = lineProg_.uniform("colour");
+  uScreen_ = hudProg_.uniform("screen");
+  uScale_ = hudProg_.uniform("scale");
+
+  glGenVertexArrays(1, &emptyVao_);
+  glGenVertexArrays(1, &lineVao_);
+  glGenVertexArrays(1, &hudVao_);
+  glGenBuffers(1, &hudVbo_);
+  glGenBuffers(1, &hudIbo_);
+  hudVerts_.resize(static_cast<std::size_t>(kHudMaxQuads) * 4);
+  {
+    std::vector<std::uint32_t> idx(static_cast<std::size_t>(kHudMaxQuads) * 6);
+    for (std::uint32_t q = 0; q < static_cast<std::uint32_t>(kHudMaxQuads); ++q) {
+      const std::uint32_t v = q * 4, o = q * 6;
+      idx[o] = v, idx[o + 1] = v + 1, idx[o + 2] = v + 2;
+      idx[o + 3] = v, idx[o + 4] = v + 2, idx[o + 5] = v + 3;
+    }
+    glBindVertexArray(hudVao_);
+    glBindBuffer(GL_ARRAY_BUFFER, hudVbo_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(hudVerts_.size() * sizeof(EasyVertex)),
+                 nullptr, GL_STREAM_DRAW);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(EasyVertex), nullptr);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(EasyVertex),
+                          reinterpret_cast<const void*>(offsetof(EasyVertex, c)));
+    glEnableVertexAttribArray(1);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hudIbo_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(),
+                 GL_STATIC_DRAW);
+    glBindVertexArray(0);
+  }
+  glGenTextures(1, &colourTex_);
+  glGenTextures(1, &holeTex_);
+  glGenTextures(1, &overlayTex_);
+  for (unsigned t : {colourTex_, holeTex_, overlayTex_}) {
+    glBindTexture(GL_TEXTURE_2D, t);
+    const int filter = t == overlayTex_ ? GL_LINEAR : GL_NEAREST;
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  for (Slot& s : slots_) glGenBuffers(1, &s.lineVbo);
+  HW_TRY(gl::checkGlError("viewer set-up"));
+
+  // Session camera: fov and planes of the path; home at its first camera.
+  setPlayPath(path);
+  base_ = playCams_.empty() ? Camera{} : playCams_.front();
+  home_ = base_;
+  const glm::dvec3 diag = glm::dvec3(scene_.boundsMax) - glm::dvec3(scene_.boundsMin);
+  const double diagLen = std::max(glm::length(diag), 1e-3);
+  double spacing = opt_.keyframeDistance;
+  if (spacing <= 0 && playCams_.size() > 1) {
+    double arc = 0;
+    for (std::size_t i = 1; i < playCams_.size(); ++i)
+      arc += glm::length(playCams_[i].eye - playCams_[i - 1].eye);
+    spacing = arc / static_cast<double>(playCams_.size() - 1) * path.keyframeEvery;
+  }
+  kfDistance_ = spacing > 0 ? spacing : diagLen / 30.0;
+  kfAngle_ = opt_.keyframeAngleDeg * kPi / 180.0;
+  moveSpeed_ = diagLen / 20.0;
+  hybrid_ = opt_.startHybrid;
+  play_ = opt_.play;
+  statsLevel_ = opt_.hud ? 1 : 0;
+  poseFromCamera(home_);
+
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(win_, &fw, &fh);
+  HW_TRY(resize(fw, fh));
+  for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
+  cam_ = play_ ? sized(playCams_.front()) : cameraFromPose();
+  prevCam_ = cam_;
+  std::printf(
+      "hybridwalk view: %s, %zu triangles, %dx%d, tau %g; keyframe every %.3g units or "
+      "%.3g deg. Press h for help.\n",
+      opt_.sceneLabel.empty() ? "scene" : opt_.sceneLabel.c_str(), scene_.triangleCount(), width_,
+      height_, opt_.tau, kfDistance_, opt_.keyframeAngleDeg);
+  std::fflush(stdout);
+  return {};
+}
+
+void Viewer::releaseGl() {
+  if (!ctx_) return;
+  ctx_->makeCurrent();
+  for (Slot& s : slots_) {
+    s.source.reset();
+    if (s.lineVbo) glDeleteBuffers(1, &s.lineVbo);
+  }
+  const unsigned vaos[] = {emptyVao_, lineVao_, hudVao_};
+  for (unsigned v : vaos)
+    if (v) glDeleteVertexArrays(1, &v);
+  const unsigned bufs[] = {hudVbo_, hudIbo_};
+  for (unsigned b : bufs)
+    if (b) glDeleteBuffers(1, &b);
+  const unsigned texs[] = {colourTex_, holeTex_, overlayTex_};
+  for (unsigned t : texs)
+    if (t) glDeleteTextures(1, &t);
+  displayProg_ = {};
+  lineProg_ = {};
+  hudProg_ = {};
+  warper_.reset();
+  renderer_.reset();
+}
+
+Status Viewer::resize(int w, int h) {
+  width_ = w;
+  height_ = h;
+  glBindTexture(GL_TEXTURE_2D, colourTex_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glBindTexture(GL_TEXTURE_2D, holeTex_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, w, h, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+  for (Slot& s : slots_) s.valid = false;
+  havePrevious_ = false;
+  overlaySerial_ = -1;
+  frame_.colour.resize(w, h);
+  frame_.holesBefore.resize(w, h);
+  frame_.valid.resize(w, h);
+  return gl::checkGlError("viewer resize");
+}
+
+void Viewer::setPlayPath(const scenes::CameraPath& path) {
+  playCams_.clear();
+  playCams_.reserve(static_cast<std::size_t>(path.frames));
+  if (!path.keys.empty())
+    for (int i = 0; i < path.frames; ++i) playCams_.push_back(path.cameraAt(i));
+  playIndex_ = 0;
+}
+
+void Viewer::poseFromCamera(const Camera& c) {
+  eye_ = c.eye;
+  yaw_ = std::atan2(c.forward.x, -c.forward.z);
+  pitch_ = std::clamp(std::asin(std::clamp(c.forward.y, -1.0, 1.0)), -kMaxPitch, kMaxPitch);
+}
+
+Camera Viewer::cameraFromPose() const {
+  // Scenes are Y-up (scenes/scene.h); pitch is clamped away from the pole.
+  return Camera::lookAt(eye_, eye_ + forwardFrom(yaw_, pitch_), glm::dvec3(0, 1, 0),
+                        base_.fovYRadians, width_, height_, base_.nearPlane, base_.farPlane);
+}
+
+void Viewer::message(const std::string& text) {
+  std::snprintf(messageText_, sizeof messageText_, "%s", text.c_str());
+  std::printf("%s\n", messageText_);
+  std::fflush(stdout);
+  messageUntil_ = clock_.ms() / 1000.0 + kMessageSeconds;
+}
+
+void Viewer::handleChar(unsigned c, bool flying) {
+  // While flying, W/A/S/D/Q/E are movement, not commands.
+  if (flying && (c == 'w' || c == 'a' || c == 's' || c == 'd' || c == 'q' || c == 'e' || c == 'W' ||
+                 c == 'A' || c == 'S' || c == 'D' || c == 'Q' || c == 'E'))
+    return;
+  switch (c) {
+    case 's':
+      statsLevel_ = (statsLevel_ + 1) % 3;
+      break;
+    case 'w':
+      wireframe_ = !wireframe_;
+      break;
+    case 'f':
+      toggleFullScreen();
+      break;
+    case 'c':
+      captureRequested_ = true;
+      break;
+    case 'z':
+      toggleRecording();
+      break;
+    case 'Z':
+      togglePlayRecorded();
+      break;
+    case ' ':
+      play_ = false;
+      poseFromCamera(home_);
+      message("home");
+      break;
+    case 'h':
+      help_ = !help_;
+      std::printf("%s", kHelp);
+      std::fflush(stdout);
+      break;
+    case 'g':
+      hybrid_ = !hybrid_;
+      havePrevious_ = false;
+      message(hybrid_ ? "hybrid rendering" : "geometry rendering");
+      break;
+    case 'o':
+      overlay_ = !overlay_;
+      break;
+    case 'm':
+      holeMask_ = !holeMask_;
+      break;
+    case 'p':
+      psnrRequested_ = true;
+      break;
+    case '+':
+    case '=':
+      moveSpeed_ *= kSpeedStep;
+      break;
+    case '-':
+    case '_':
+      moveSpeed_ /= kSpeedStep;
+      break;
+    default:
+      break;
+  }
+}
+
+void Viewer::toggleFullScreen() {
+  if (glfwGetWindowMonitor(win_)) {
+    glfwSetWindowMonitor(win_, nullptr, windowedX_, windowedY_, windowedW_, windowedH_, 0);
+    return;
+  }
+  GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+  const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
+  if (!mode) {
+    message("full screen: no monitor");
+    return;
+  }
+  glfwGetWindowPos(win_, &windowedX_, &windowedY_);
+  glfwGetWindowSize(win_, &windowedW_, &windowedH_);
+  glfwSetWindowMonitor(win_, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
+}
+
+void Viewer::toggleRecording() {
+  const glm::dvec3 look = cam_.eye + cam_.forward * kfDistance_;
+  if (!recording_) {
+    recorded_ = scenes::CameraPath{};
+    recorded_.width = width_;
+    recorded_.height = height_;
+    recorded_.fovYDeg = base_.fovYRadians * 180.0 / kPi;
+    recorded_.nearPlane = base_.nearPlane;
+    recorded_.farPlane = base_.farPlane;
+    recordedFrames_ = 0;  // keys and frames are added from this frame's camera on
+    recording_ = true;
+    message("recording a camera path (z: stop and save)");
+    return;
+  }
+  recording_ = false;
+  if (recorded_.keys.empty() || poseDistance(cam_, lastRecordedKey_) > 0)
+    recorded_.keys.push_back({cam_.eye, look});
+  recorded_.frames = std::max(recordedFrames_, 1);
+  const std::string file = opt_.recordPath.empty() ? "hybridwalk_path.json" : opt_.recordPath;
+  const Status s = writeFileAtomic(file, scenes::cameraPathToJson(recorded_));
+  if (!s) {
+    message("cannot save the path: " + s.error().message);
+    return;
+  }
+  message("camera path saved to " + file + " (" + std::to_string(recorded_.keys.size()) +
+          " keys, " + std::to_string(recorded_.frames) + " frames)");
+}
+
+void Viewer::togglePlayRecorded() {
+  if (play_) {
+    play_ = false;
+    message("playback stopped");
+    return;
+  }
+  const std::string file = opt_.recordPath.empty() ? "hybridwalk_path.json" : opt_.recordPath;
+  if (std::filesystem::exists(file)) {
+    auto p = scenes::loadCameraPath(file);
+    if (!p) {
+      message("cannot play: " + p.error().message);
+      return;
+    }
+    setPlayPath(*p);
+    message("playing " + file);
+  } else if (!recorded_.keys.empty()) {
+    setPlayPath(recorded_);
+    message("playing the last recording");
+  } else {
+    message("nothing to play: " + file + " does not exist and nothing was recorded");
+    return;
+  }
+  play_ = !playCams_.empty();
+}
+
+void Viewer::updateCamera(double dt) {
+  // Mouse look while the right button is held.
+  const bool rmb = glfwGetMouseButton(win_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  double mx = 0, my = 0;
+  glfwGetCursorPos(win_, &mx, &my);
+  if (rmb != mouseLook_) {
+    mouseLook_ = rmb;
+    glfwSetInputMode(win_, GLFW_CURSOR, rmb ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
+    glfwGetCursorPos(win_, &mx, &my);
+    lastMouseX_ = mx;
+    lastMouseY_ = my;
+  }
+  auto down = [&](int key) { return glfwGetKey(win_, key) == GLFW_PRESS; };
+  glm::dvec3 move(0.0);  // (right, up, forward) request
+  if (mouseLook_) {
+    if (down(GLFW_KEY_W)) move.z += 1;
+    if (down(GLFW_KEY_S)) move.z -= 1;
+    if (down(GLFW_KEY_D)) move.x += 1;
+    if (down(GLFW_KEY_A)) move.x -= 1;
+    if (down(GLFW_KEY_E)) move.y += 1;
+    if (down(GLFW_KEY_Q)) move.y -= 1;
+  }
+  if (down(GLFW_KEY_UP)) move.z += 1;
+  if (down(GLFW_KEY_DOWN)) move.z -= 1;
+  if (down(GLFW_KEY_RIGHT)) move.x += 1;
+  if (down(GLFW_KEY_LEFT)) move.x -= 1;
+  if (down(GLFW_KEY_PAGE_UP)) move.y += 1;
+  if (down(GLFW_KEY_PAGE_DOWN)) move.y -= 1;
+  const double dmx = mouseLook_ ? mx - lastMouseX_ : 0, dmy = mouseLook_ ? my - lastMouseY_ : 0;
+  lastMouseX_ = mx;
+  lastMouseY_ = my;
+
+  const bool userInput = move != glm::dvec3(0.0) || dmx != 0 || dmy != 0;
+  if (play_ && userInput) {
+    play_ = false;  // the user takes over where the path is
+    poseFromCamera(cam_);
+  }
+  prevCam_ = cam_;
+  if (play_ && !playCams_.empty()) {
+    cam_ = sized(playCams_[static_cast<std::size_t>(playIndex_)]);
+    playIndex_ = (playIndex_ + 1) % static_cast<int>(playCams_.size());
+  } else {
+    yaw_ += dmx * kMouseRadiansPerPixel;
+    pitch_ = std::clamp(pitch_ - dmy * kMouseRadiansPerPixel, -kMaxPitch, kMaxPitch);
+    if (move != glm::dvec3(0.0)) {
+      const bool fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
+      const double step = moveSpeed_ * (fast ? kShiftFactor : 1.0) * dt;
+      const glm::dvec3 fwd = forwardFrom(yaw_, pitch_);
+      const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 1, 0)));
+      eye_ += step * (move.z * fwd + move.x * right + move.y * glm::dvec3(0, 1, 0));
+    }
+    cam_ = cameraFromPose();
+  }
+  // Smoothed motion, for placing the next keyframe ahead of the viewer.
+  if (dt > 1e-6) {
+    constexpr double kSmooth = 0.5;
+    const glm::dvec3 v = (cam_.eye - prevCam_.eye) / dt;
+    const double py = std::atan2(prevCam_.forward.x, -prevCam_.forward.z);
+    const double cy = std::atan2(cam_.forward.x, -cam_.forward.z);
+    double dyaw = cy - py;
+    if (dyaw > kPi) dyaw -= 2 * kPi;
+    if (dyaw < -kPi) dyaw += 2 * kPi;
+    const double dpitch = std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) -
+                          std::asin(std::clamp(prevCam_.forward.y, -1.0, 1.0));
+    velocity_ = glm::mix(velocity_, v, kSmooth);
+    yawRate_ = yawRate_ + kSmooth * (dyaw / dt - yawRate_);
+    pitchRate_ = pitchRate_ + kSmooth * (dpitch / dt - pitchRate_);
+  }
+  moving_ = poseDistance(cam_, prevCam_) > 1e-9;
+
+  if (recording_) {
+    ++recordedFrames_;
+    if (recorded_.keys.empty() || poseDistance(cam_, lastRecordedKey_) >= kRecordStep) {
+      recorded_.keys.push_back({cam_.eye, cam_.eye + cam_.forward * kfDistance_});
+      lastRecordedKey_ = cam_;
+    }
+  }
+}
+
+// Where the viewer will be when it is one pose-distance unit away: the path's
+// camera when playing, else the current motion extrapolated.
+Camera Viewer::aheadCamera() const {
+  if (play_ && playCams_.size() > 1) {
+    const int n = static_cast<int>(playCams_.size());
+    Camera best = cam_;
+    double bestS = -1;
+    for (int k = 0; k < n - 1; ++k) {
+      const Camera& c = playCams_[static_cast<std::size_t>((playIndex_ + k) % n)];
+      const double s = poseDistance(c, cam_);
+      if (s > bestS) best = c, bestS = s;
+      if (s >= 1.0) break;
+    }
+    return sized(best);
+  }
+  const double rate = glm::length(velocity_) / kfDistance_ +
+                      std::sqrt(yawRate_ * yawRate_ + pitchRate_ * pitchRate_) / kfAngle_;
+  if (!(rate > 1e-9)) return cam_;
+  const double t = 1.0 / rate;
+  const glm::dvec3 eye = cam_.eye + velocity_ * t;
+  const double yaw = std::atan2(cam_.forward.x, -cam_.forward.z) + yawRate_ * t;
+  const double pitch = std::clamp(std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) + pitchRate_ * t,
+                                  -kMaxPitch, kMaxPitch);
+  return Camera::lookAt(eye, eye + forwardFrom(yaw, pitch), glm::dvec3(0, 1, 0), cam_.fovYRadians,
+                        width_, height_, cam_.nearPlane, cam_.farPlane);
+}
+
+Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
+  Stopwatch sw;
+  HW_TRY(renderer_->renderKeyframe(cam, slot.kf));
+  lastKeyframe_.renderMs = sw.lap();
+  HW_TRY(lod_.build(slot.kf, lodOptions_, &slot.mesh));
+  lastKeyframe_.lodMs = sw.lap();
+  slot.source.reset();
+  auto src = warper_->upload(slot.kf, slot.mesh);
+  if (!src) return src.error();
+  slot.source = std::move(*src);
+  // Quad outlines for the wireframe view: 4 edges, 8 vertices per quad.
+  lineScratch_.clear();
+  for (const keyframe::Quad& q : slot.mesh.quads)
+    for (int e = 0; e < 4; ++e)
+      for (const glm::dvec3& p :
+           {q.world[static_cast<std::size_t>(e)], q.world[static_cast<std::size_t>((e + 1) % 4)]}) {
+        lineScratch_.push_back(static_cast<float>(p.x));
+        lineScratch_.push_back(static_cast<float>(p.y));
+        lineScratch_.push_back(static_cast<float>(p.z));
+      }
+  glBindBuffer(GL_ARRAY_BUFFER, slot.lineVbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lineScratch_.size() * sizeof(float)),
+               lineScratch_.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  slot.lineVertices = static_cast<int>(lineScratch_.size() / 3);
+  lastKeyframe_.uploadMs = sw.lap();
+  lastKeyframe_.quads = slot.mesh.stats.quads;
+  slot.valid = true;
+  slot.serial = ++serial_;
+  ++keyframesBuilt_;
+  return {};
+}
+
+Status Viewer::renderHybrid(FrameStats& st) {
+  // Keyframe policy: keep two keyframes, the last one and one rendered ahead
+  // along the motion once the viewer has passed the newest; re-render where
+  // the viewer stands when no keyframe is close (first frame, jumps, turns
+  // the prediction missed).
+  int nearest = -1, newest = -1, useful = 0;
+  double sNearest = 1e300;
+  std::array<double, 2> s{1e300, 1e300};
+  for (int i = 0; i < 2; ++i) {
+    const Slot& sl = slots_[static_cast<std::size_t>(i)];
+    if (!sl.valid) continue;
+    s[static_cast<std::size_t>(i)] = poseDistance(sl.kf.camera, cam_);
+    if (s[static_cast<std::size_t>(i)] < sNearest)
+      nearest = i, sNearest = s[static_cast<std::size_t>(i)];
+    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
+    if (s[static_cast<std::size_t>(i)] < kUseless) ++useful;
+  }
+  const double sNewest = newest >= 0 ? s[static_cast<std::size_t>(newest)] : 1e300;
+  const bool newestSame =
+      newest >= 0 && slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_;
+  const bool recedingFromNewest = newestSame && sNewest > newestSPrev_;
+  Stopwatch kt;
+  if (nearest < 0 || sNearest > kLost) {
+    const int target = nearest < 0 ? 0 : 1 - nearest;
+    HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(target)], cam_));
+    st.builtKeyframe = true;
+  } else if (moving_ &&
+             (useful < 2 || (nearest == newest && sNewest > kPassedNewest && recedingFromNewest))) {
+    const Camera ahead = aheadCamera();
+    if (poseDistance(ahead, cam_) > kPassedNewest) {
+      HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(1 - nearest)], ahead));
+      st.builtKeyframe = true;
+    }
+  }
+  if (st.builtKeyframe) st.keyframeMs = kt.ms();
+  // Re-evaluate after a build.
+  int a = -1, b = -1;
+  newest = -1;
+  for (int i = 0; i < 2; ++i) {
+    const Slot& sl = slots_[static_cast<std::size_t>(i)];
+    if (!sl.valid) continue;
+    const double si = poseDistance(sl.kf.camera, cam_);
+    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
+    if (si >= kUseless) continue;
+    if (a < 0)
+      a = i;
+    else
+      b = i;
+  }
+  if (newest >= 0) {
+    newestSPrev_ = poseDistance(slots_[static_cast<std::size_t>(newest)].kf.camera, cam_);
+    newestSerialPrev_ = slots_[static_cast<std::size_t>(newest)].serial;
+  }
+  HW_CHECK(a >= 0);  // a keyframe at the current camera was built if none was close
+  if (b >= 0) {
+    // The nearer eye is the foreground (paper §2.2 (i)), with its tie-break.
+    const int pick =
+        gapfill::chooseForeground(cam_.eye, slots_[static_cast<std::size_t>(a)].kf.camera.eye,
+                                  slots_[static_cast<std::size_t>(b)].kf.camera.eye);
+    if (pick == 1) std::swap(a, b);
+  }
+  foregroundSlot_ = a;
+  const Slot& fg = slots_[static_cast<std::size_t>(a)];
+  // A keyframe rendered at this very camera is the frame itself.
+  if (fg.kf.camera.eye == cam_.eye && fg.kf.camera.forward == cam_.forward &&
+      fg.kf.camera.width == width_ && fg.kf.camera.height == height_) {
+    frame_.colour = fg.kf.colour;
+    frame_.holesBefore.fill(0);
+    frame_.valid.fill(1);
+    frame_.holeFractionBefore = frame_.holeFractionAfter = 0;
+    st.direct = true;
+    st.layers = 0;
+    st.quadsA = fg.mesh.stats.quads;
+    return {};
+  }
+  Stopwatch sw;
+  warp::WarpStats wa, wb;
+  HW_TRY(warper_->warp(*fg.source, cam_, layerA_, &wa));
+  st.warpAMs = sw.lap();
+  st.quadsA = wa.quads;
+  st.layers = 1;
+  if (b >= 0) {
+    HW_TRY(warper_->warp(*slots_[static_cast<std::size_t>(b)].source, cam_, layerB_, &wb));
+    st.warpBMs = sw.lap();
+    st.quadsB = wb.quads;
+    st.layers = 2;
+  }
+  gapfill::compose(layerA_, b >= 0 ? &layerB_ : nullptr, havePrevious_ ? &previous_ : nullptr,
+                   composeOptions_, frame_);
+  st.composeMs = sw.lap();
+  st.holesBefore = frame_.holeFractionBefore;
+  st.holesAfter = frame_.holeFractionAfter;
+  return {};
+}
+
+Status Viewer::renderFrame() {
+  FrameStats st;
+  st.hybrid = hybrid_;
+  if (hybrid_) {
+    HW_TRY(renderHybrid(st));
+  } else {
+    keyframe::RenderStats rs;
+    if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    const Status s = renderer_->renderColour(cam_, frame_.colour, &rs);
+    if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    HW_TRY(s);
+    frame_.holesBefore.fill(0);
+    frame_.valid.fill(1);
+    frame_.holeFractionBefore = frame_.holeFractionAfter = 0;
+    st.geometryMs = rs.drawMs + rs.readbackMs;
+    st.trianglesDrawn = rs.trianglesDrawn;
+  }
+  stats_ = st;
+  return {};
+}
+
+Status Viewer::computePsnr() {
+  Stopwatch sw;
+  HW_TRY(renderer_->renderColour(cam_, reference_));
+  const double p = psnr(frame_.colour, reference_);
+  std::snprintf(psnrText_, sizeof psnrText_, "PSNR %.2f dB vs geometry (%s, frame %ld)",
+                std::isfinite(p) ? p : 99.0, hybrid_ ? "hybrid" : "geometry", frameIndex_);
+  if (!std::isfinite(p))
+    std::snprintf(psnrText_, sizeof psnrText_, "PSNR inf dB vs geometry (identical, %s, frame %ld)",
+                  hybrid_ ? "hybrid" : "geometry", frameIndex_);
+  std::printf("%s\n", psnrText_);
+  std::fflush(stdout);
+  psnrUntil_ = clock_.ms() / 1000.0 + 2 * kMessageSeconds;
+  return {};
+}
+
+void Viewer::hudBlock(float x, float y, char* text, const unsigned char colour[4]) {
+  if (hudQuads_ + 1 >= kHudMaxQuads) return;
+  // Translucent backdrop, then the text.
+  const float w = static_cast<float>(stb_easy_font_width(text));
+  const float h = static_cast<float>(stb_easy_font_height(text));
+  const float pad = 3;
+  EasyVertex* v = hudVerts_.data() + static_cast<std::ptrdiff_t>(hudQuads_) * 4;
+  const float xs[4] = {x - pad, x + w + pad, x + w + pad, x - pad};
+  const float ys[4] = {y - pad, y - pad, y + h + pad, y + h + pad};
+  for (int i = 0; i < 4; ++i) v[i] = EasyVertex{xs[i], ys[i], 0, {0, 0, 0, 150}};
+  ++hudQuads_;
+  unsigned char c[4] = {colour[0], colour[1], colour[2], colour[3]};
+  const int room = (kHudMaxQuads - hudQuads_) * 4 * static_cast<int>(sizeof(EasyVertex));
+  hudQuads_ += stb_easy_font_print(
+      x, y, text, c, hudVerts_.data() + static_cast<std::ptrdiff_t>(hudQuads_) * 4, room);
+}
+
+void Viewer::drawHud() {
+  hudQuads_ = 0;
+  // stb_easy_font's glyphs are ~6 px: 1× up to 640 px wide, then in half steps up to 2×.
+  const float scale =
+      std::clamp(std::floor(static_cast<float>(width_) / 640.0f * 2.0f) / 2.0f, 1.0f, 2.0f);
+  const unsigned char white[4] = {255, 255, 255, 255};
+  const unsigned char yellow[4] = {255, 230, 80, 255};
+  const double now = clock_.ms() / 1000.0;
+  float y = 6;
+  const float lineH = 12;
+  if (statsLevel_ >= 1) {
+    const double fps = frameMsSmoothed_ > 0 ? 1000.0 / frameMsSmoothed_ : 0;
+    int n =
+        std::snprintf(hudText_, sizeof hudText_, "%s  %.1f fps (%.1f ms)  speed %.2f units/s%s%s",
+                      hybrid_ ? "hybrid" : "geometry", fps, frameMsSmoothed_, moveSpeed_,
+                      play_ ? "  [playing]" : "", recording_ ? "  [recording]" : "");
+    if (statsLevel_ >= 2 && n > 0 && n < static_cast<int>(sizeof hudText_)) {
+      const FrameStats& s = stats_;
+      char* p = hudText_ + n;
+      const std::size_t room = sizeof hudText_ - static_cast<std::size_t>(n);
+      if (s.hybrid) {
+        std::snprintf(
+            p, room,
+            "\nwarp A %.1f ms  warp B %.1f ms  compose %.1f ms%s\n"
+            "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
+            "last keyframe: render %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built%s\n"
+            "tau %g  keyframe every %.2f units / %.0f deg",
+            s.warpAMs, s.warpBMs, s.composeMs, s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
+            s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
+            lastKeyframe_.renderMs, lastKeyframe_.lodMs, lastKeyframe_.uploadMs,
+            lastKeyframe_.quads, keyframesBuilt_, s.builtKeyframe ? " (one this frame)" : "",
+            opt_.tau, kfDistance_, kfAngle_ * 180 / kPi);
+      } else {
+        std::snprintf(p, room, "\ngeometry %.1f ms  %zu of %zu triangles drawn", s.geometryMs,
+                      s.trianglesDrawn, scene_.triangleCount());
+      }
+    }
+    hudBlock(6, y, hudText_, white);
+    y += static_cast<float>(stb_easy_font_height(hudText_)) + lineH;
+  }
+  if (psnrText_[0] && now < psnrUntil_) {
+    hudBlock(6, y, psnrText_, yellow);
+    y += lineH + 4;
+  }
+  if (messageText_[0] && now < messageUntil_) {
+    hudBlock(6, y, messageText_, yellow);
+    y += lineH + 4;
+  }
+  if (help_) {
+    std::snprintf(hudText_, sizeof hudText_, "%s", kHelp);
+    hudBlock(6, y + 4, hudText_, white);
+  } else if (statsLevel_ >= 1 && frameIndex_ < 200) {
+    std::snprintf(hudText_, sizeof hudText_, "h: help");
+    hudBlock(6, y, hudText_, white);
+  }
+  if (hudQuads_ == 0) return;
+  hudProg_.use();
+  glUniform2f(uScreen_, static_cast<float>(width_), static_cast<float>(height_));
+  glUniform1f(uScale_, scale);
+  glBindVertexArray(hudVao_);
+  glBindBuffer(GL_ARRAY_BUFFER, hudVbo_);
+  glBufferSubData(
+      GL_ARRAY_BUFFER, 0,
+      static_cast<GLsizeiptr>(static_cast<std::size_t>(hudQuads_) * 4 * sizeof(EasyVertex)),
+      hudVerts_.data());
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDrawElements(GL_TRIANGLES, hudQuads_ * 6, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_BLEND);
+  glBindVertexArray(0);
+}
+
+void Viewer::drawWindow() {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, colourTex_);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
+                  frame_.colour.data());
+  const bool holes = holeMask_ && hybrid_;
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, holeTex_);
+  if (holes)
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE,
+                    frame_.holesBefore.data());
+  displayProg_.use();
+  glUniform1i(uShowHoles_, holes ? 1 : 0);
+  glBindVertexArray(emptyVao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  if (wireframe_ && hybrid_) {
+    lineProg_.use();
+    setFloatMatrix(uViewProj_, cam_.projectionMatrix(DepthMode::Fixed24, true) * cam_.viewMatrix());
+    glBindVertexArray(lineVao_);
+    for (int i = 0; i < 2; ++i) {
+      const Slot& s = slots_[static_cast<std::size_t>(i)];
+      if (!s.valid || s.lineVertices == 0) continue;
+      if (i == foregroundSlot_)
+        glUniform4f(uLineColour_, 0.1f, 1.0f, 0.2f, 1.0f);
+      else
+        glUniform4f(uLineColour_, 1.0f, 0.6f, 0.1f, 1.0f);
+      glBindBuffer(GL_ARRAY_BUFFER, s.lineVbo);
+      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+      glEnableVertexAttribArray(0);
+      glDrawArrays(GL_LINES, 0, s.lineVertices);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+  }
+
+  if (overlay_ && hybrid_ && foregroundSlot_ >= 0 &&
+      slots_[static_cast<std::size_t>(foregroundSlot_)].valid) {
+    const Slot& s = slots_[static_cast<std::size_t>(foregroundSlot_)];
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, overlayTex_);
+    if (overlaySerial_ != s.serial) {
+      // Only when the foreground keyframe changes.
+      const Image<Rgba8> img = keyframe::drawQuadOverlay(s.kf.colour, s.mesh);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, img.width(), img.height(), 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, img.data());
+      overlaySerial_ = s.serial;
+      overlayW_ = img.width();
+      overlayH_ = img.height();
+    }
+    const int w = std::max(1, width_ * 2 / 5),
+              h = std::max(1, w * overlayH_ / std::max(1, overlayW_));
+    displayProg_.use();
+    glUniform1i(uShowHoles_, 0);
+    glViewport(width_ - w - 8, 8, w, h);  // bottom right, clear of the HUD
+    glBindVertexArray(emptyVao_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glViewport(0, 0, width_, height_);
+  }
+  if (opt_.hud) drawHud();
+  glActiveTexture(GL_TEXTURE0);
+}
+
+void Viewer::readWindow(Image<Rgba8>& out) {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  readScratch_.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, readScratch_.data());
+  if (out.width() != width_ || out.height() != height_) out.resize(width_, height_);
+  for (int y = 0; y < height_; ++y) {  // GL row 0 is the bottom
+    const Rgba8* src = readScratch_.data() + static_cast<std::ptrdiff_t>(height_ - 1 - y) * width_;
+    Rgba8* dst = out.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    for (int x = 0; x < width_; ++x) dst[x] = Rgba8{src[x].r, src[x].g, src[x].b, 255};
+  }
+}
+
+Status Viewer::screenshot(const std::string& path) {
+  readWindow(windowImage_);
+  HW_TRY(gl::checkGlError("reading the window for a screenshot"));
+  return writePng(path, windowImage_);
+}
+
+Status Viewer::run() {
+  HW_TRY(setUp());
+  Stopwatch frameClock;
+  double dt = 0;
+  while (!ctx_->shouldClose()) {
+    ctx_->pollEvents();
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(win_, &fw, &fh);
+    if (fw <= 0 || fh <= 0) {  // minimised
+      frameClock.restart();
+      glfwWaitEventsTimeout(0.1);
+      continue;
+    }
+    if (fw != width_ || fh != height_) HW_TRY(resize(fw, fh));
+    const bool flying = glfwGetMouseButton(win_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    for (int i = 0; i < input_.count; ++i)
+      handleChar(input_.chars[static_cast<std::size_t>(i)], flying);
+    input_.count = 0;
+    if (fw != width_ || fh != height_) continue;  // full-screen toggle: resize next frame
+
+    updateCamera(dt);
+    HW_TRY(renderFrame());
+    if (psnrRequested_) {
+      psnrRequested_ = false;
+      HW_TRY(computePsnr());
+    }
+    drawWindow();
+    HW_TRY(gl::checkGlError("viewer frame"));
+    if (captureRequested_) {
+      captureRequested_ = false;
+      std::string name;
+      for (int n = 0;; ++n) {
+        name = "hybridwalk_screenshot_" + std::to_string(n) + ".png";
+        if (!std::filesystem::exists(name)) break;
+      }
+      const Status s = screenshot(name);
+      if (s)
+        message("screenshot saved to " + name);
+      else
+        message("screenshot failed: " + s.error().message);
+    }
+    ++frameIndex_;
+    const bool last = opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames;
+    if (last) break;  // the back buffer still holds this frame for the exit screenshot
+    ctx_->swapBuffers();
+    std::swap(previous_, frame_);
+    havePrevious_ = true;
+    if (frame_.colour.width() != width_ || frame_.colour.height() != height_) {
+      frame_.colour.resize(width_, height_);
+      frame_.holesBefore.resize(width_, height_);
+      frame_.valid.resize(width_, height_);
+    }
+    dt = frameClock.lap() / 1000.0;
+    const double ms = dt * 1000.0;
+    frameMsSmoothed_ = frameMsSmoothed_ > 0 ? 0.9 * frameMsSmoothed_ + 0.1 * ms : ms;
+  }
+  if (frameIndex_ > 0) {
+    // Closed by the user: the frame in `previous_` was the last one shown.
+    if (!(opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames)) {
+      std::swap(previous_, frame_);
+      drawWindow();
+    }
+    if (!opt_.screenshotPath.empty()) {
+      HW_TRY(screenshot(opt_.screenshotPath));
+      std::printf("screenshot saved to %s\n", opt_.screenshotPath.c_str());
+    }
+    if (opt_.onExit) opt_.onExit(cam_);
+  }
+  if (recording_) toggleRecording();  // save what was recorded
+  std::printf("hybridwalk view: %ld frames, %ld keyframes built; last frame: %s\n", frameIndex_,
+              keyframesBuilt_,
+              !stats_.hybrid       ? "geometry"
+              : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
+              : stats_.layers == 2 ? "hybrid, two keyframes warped"
+                                   : "hybrid, one keyframe warped");
+  std::fflush(stdout);
+  return {};
+}
+
+}  // namespace
+
+int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
+              const ViewerOptions& options) {
+  Viewer viewer(scene, defaultPath, options);
+  const Status s = viewer.run();
+  if (!s) {
+    std::fprintf(stderr, "hybridwalk: error: %s\n", s.error().message.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace hw::app

@@ -1,0 +1,68 @@
+#pragma once
+// The interactive viewer (`hybridwalk view`): a GLFW window that flies through
+// a scene, drawing each frame either with the geometry renderer or the hybrid
+// way — two keyframes around the viewer, backward-warped and composed with the
+// previous frame (Zheng et al. 1999 §2; DESIGN.md "Viewer conventions").
+//
+// Controls (also printed by `h`):
+//   right mouse button held: mouse look, and W/A/S/D fly (forward/left/back/
+//     right along the view), Q/E down/up. Without the button the letters are
+//     commands (so `s`/`w` keep their osgviewer meaning). Arrow keys and
+//     PageUp/PageDown move at any time. Shift: 4× faster. +/-: speed ×/÷ 1.5.
+//   osgviewer keys: s statistics (off / fps / per-stage ms, quads, holes),
+//     w wireframe (hybrid: the warped keyframe quads' outlines; geometry: the
+//     scene's triangles), f full screen, c screenshot (PNG in the current
+//     directory), z record a camera path (again: stop and save), Z play it,
+//     space home (the path's first camera), Esc quit.
+//   ours: h help, g hybrid/geometry, o the foreground keyframe's quad overlay
+//     (Plate I-A) in a corner, m hole mask (red: pixels neither keyframe
+//     covers), p PSNR of the current view against the geometry reference.
+#include <functional>
+#include <string>
+
+#include "core/camera.h"
+#include "scenes/camera_path.h"
+#include "scenes/scene.h"
+
+namespace hw::app {
+
+// Zero/default values work as given.
+struct ViewerOptions {
+  std::string sceneLabel;         // window title and HUD
+  int width = 800, height = 600;  // window size, pixels (≥ 16)
+  double tau = 2048;              // LOD threshold τ, z' units (the paper's 2^11)
+  std::string playPath;           // camera path JSON file; empty: the default path
+  bool play = false;              // start by playing the path (loops; any move stops it)
+  int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed
+  // Written (window contents, PNG) when the viewer exits, if set. The `c` key
+  // writes hybridwalk_screenshot_N.png into the current directory instead.
+  std::string screenshotPath;
+  // `z` saves the recorded path here and `Z` plays it from here (falling back
+  // to the last recording in memory). Empty: hybridwalk_path.json in the cwd.
+  std::string recordPath;
+  bool startHybrid = true;  // false: start in geometry mode
+  bool hud = true;          // false: never draw the HUD (image comparisons)
+  bool visible = true;      // window shown
+  // Typed before the first frame, one character per key press, as if from
+  // the keyboard (scripted sessions): e.g. "s" for per-stage statistics.
+  std::string keys;
+  // A new keyframe is rendered when the viewer is this far (scene units) or
+  // this much turned from its keyframes. 0 = the play/default path's spacing
+  // between its keyframes (arc length / frames × keyframe_every).
+  double keyframeDistance = 0;
+  double keyframeAngleDeg = 15;
+  // Test hook: called with the window's GL context current, after the last
+  // frame and before the window closes, with that frame's camera (whose size
+  // is the window's framebuffer size).
+  std::function<void(const Camera& lastCamera)> onExit;
+};
+
+// Runs the viewer until Esc / the window is closed / exitAfterFrames. The
+// starting and home camera is the first of the play path (if given) or of
+// `defaultPath`; its fov and near/far planes are used throughout. Returns 0,
+// or prints "hybridwalk: error: ..." to stderr and returns 1 (no display, GL
+// failure, unreadable path, unwritable screenshot).
+int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
+              const ViewerOptions& options);
+
+}  // namespace hw::app
