@@ -1,6 +1,7 @@
 #include "keyframe/lod_builder.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -64,6 +65,27 @@ double clampDepth(double z, const DepthBounds& b) {
 
 }  // namespace
 
+const char* planarityName(Planarity p) {
+  switch (p) {
+    case Planarity::Stencil:
+      return "stencil";
+    case Planarity::RegionLocal:
+      return "region-local";
+  }
+  return "?";
+}
+
+bool parsePlanarity(const char* s, Planarity* out) {
+  if (s == nullptr) return false;
+  for (Planarity p : {Planarity::Stencil, Planarity::RegionLocal}) {
+    if (std::strcmp(s, planarityName(p)) == 0) {
+      *out = p;
+      return true;
+    }
+  }
+  return false;
+}
+
 double tauFromParallax(double parallaxPx, const Camera& camera) {
   const double n = camera.nearPlane, f = camera.farPlane;
   return parallaxPx * kZPrimeScale * f * n / (camera.fx() * (f - n));
@@ -95,6 +117,14 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   if (!(options.tauParallaxPx >= 0.0 && std::isfinite(options.tauParallaxPx))) {
     return makeError("LOD builder: tauParallaxPx must be finite and >= 0, got " +
                      std::to_string(options.tauParallaxPx));
+  }
+  if (!(options.mergeToleranceZPrime >= 0.0 && std::isfinite(options.mergeToleranceZPrime))) {
+    return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
+                     std::to_string(options.mergeToleranceZPrime));
+  }
+  if (options.planarity != Planarity::Stencil && options.planarity != Planarity::RegionLocal) {
+    return makeError("LOD builder: unknown planarity " +
+                     std::to_string(static_cast<int>(options.planarity)));
   }
   if (options.criterion != DeltaCriterion::FivePoint &&
       options.criterion != DeltaCriterion::PerAxisMax) {
@@ -133,21 +163,24 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   return {};
 }
 
-int LodBuilder::findCut(const Region& r, bool cutX) const {
+template <class Clean>
+int LodBuilder::findCut(const Region& r, bool cutX, Clean regionClean) const {
   const int lo = cutX ? r.x0 : r.y0;
   const int len = cutX ? r.x1 - r.x0 : r.y1 - r.y0;
   HW_CHECK_GE(len, 2);
-  // Clean lines [lo, lo+k) resp. [hi−k, hi): O(1) each from the table.
+  // Clean lines [lo, lo+k) resp. [hi−k, hi): O(1) each from the tables.
   auto cleanFromStart = [&](int k) {
-    return cutX ? dirtyCount(r.x0, r.y0, r.x0 + k, r.y1) == 0
-                : dirtyCount(r.x0, r.y0, r.x1, r.y0 + k) == 0;
+    return cutX ? regionClean(r.x0, r.y0, r.x0 + k, r.y1) : regionClean(r.x0, r.y0, r.x1, r.y0 + k);
   };
   auto cleanFromEnd = [&](int k) {
-    return cutX ? dirtyCount(r.x1 - k, r.y0, r.x1, r.y1) == 0
-                : dirtyCount(r.x0, r.y1 - k, r.x1, r.y1) == 0;
+    return cutX ? regionClean(r.x1 - k, r.y0, r.x1, r.y1) : regionClean(r.x0, r.y1 - k, r.x1, r.y1);
   };
-  // The paper scans line by line; "k clean lines from one end" is monotone in
-  // k, so the first dirty line is found by bisection with the same result.
+  // The paper scans line by line; with Stencil, "k clean lines from one end"
+  // is monotone in k, so the first dirty line is found by bisection with the
+  // same result. RegionLocal with FivePoint is not strictly monotone (when
+  // the part grows, its border pixel's single-axis term becomes the 5-point
+  // sum, which can cancel); bisection still returns a k whose part is clean
+  // and whose (k+1)-line part is not, which is all the cut needs.
   // Enough = at least 1/4 of the region: 4k >= len.
   const int quarter = (len + 3) / 4;
   auto longestClean = [&](auto clean) {
@@ -167,37 +200,64 @@ double LodBuilder::subdivide() {
   HW_CHECK(prepared_);
   Stopwatch sw;
   const int w = delta_.width(), h = delta_.height();
-  // The largest float <= τ: for a float Δ, Δ > tau ⇔ Δ > τ exactly. Capped at
-  // FLT_MAX so that kDeltaDiscontinuity (+inf) stays dirty for any τ.
-  float tau = static_cast<float>(std::min(tauZPrime_, double(std::numeric_limits<float>::max())));
-  if (static_cast<double>(tau) > tauZPrime_) tau = std::nextafter(tau, 0.0f);
-
-  // Summed-area table of the dirty mask (|Δ²| > τ; kDeltaEmpty never is).
   satStride_ = w + 1;
-  sat_.resize(static_cast<std::size_t>(w + 1) * (h + 1));
-  std::fill(sat_.begin(), sat_.begin() + satStride_, 0);
-  for (int y = 0; y < h; ++y) {
-    const float* __restrict d = delta_.view().row(y);
-    const std::int32_t* __restrict prev = sat_.data() + static_cast<std::ptrdiff_t>(y) * satStride_;
-    std::int32_t* __restrict cur = sat_.data() + static_cast<std::ptrdiff_t>(y + 1) * satStride_;
-    cur[0] = 0;
-    for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
-    for (int x = 0; x < w; ++x) cur[x + 1] += cur[x];  // row prefix (serial)
-    for (int x = 1; x <= w; ++x) cur[x] += prev[x];
-  }
+  if (options_.planarity == Planarity::RegionLocal) {
+    buildLocalTables();
+    subdivideRegions<true>();
+  } else {
+    // The largest float <= τ: for a float Δ, Δ > tau ⇔ Δ > τ exactly. Capped
+    // at FLT_MAX so that kDeltaDiscontinuity (+inf) stays dirty for any τ.
+    float tau = static_cast<float>(std::min(tauZPrime_, double(std::numeric_limits<float>::max())));
+    if (static_cast<double>(tau) > tauZPrime_) tau = std::nextafter(tau, 0.0f);
 
+    // Summed-area table of the dirty mask (|Δ²| > τ; kDeltaEmpty never is).
+    sat_.resize(static_cast<std::size_t>(w + 1) * (h + 1));
+    std::fill(sat_.begin(), sat_.begin() + satStride_, 0);
+    for (int y = 0; y < h; ++y) {
+      const float* __restrict d = delta_.view().row(y);
+      const std::int32_t* __restrict prev =
+          sat_.data() + static_cast<std::ptrdiff_t>(y) * satStride_;
+      std::int32_t* __restrict cur = sat_.data() + static_cast<std::ptrdiff_t>(y + 1) * satStride_;
+      cur[0] = 0;
+      for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
+      for (int x = 0; x < w; ++x) cur[x + 1] += cur[x];  // row prefix (serial)
+      for (int x = 1; x <= w; ++x) cur[x] += prev[x];
+    }
+    subdivideRegions<false>();
+  }
+  leavesBeforeMerge_ = static_cast<int>(leaves_.size());
+  mergeTol_ = options_.mergeToleranceZPrime > 0.0 ? options_.mergeToleranceZPrime
+                                                  : std::max(0.25 * tauZPrime_, kMergeNoiseFloor);
+  if (options_.mergeStrips) mergeLeaves();
+  return sw.ms();
+}
+
+template <bool kLocal>
+void LodBuilder::subdivideRegions() {
+  const int w = delta_.width(), h = delta_.height();
   leaves_.clear();
   stack_.clear();
   stack_.push_back(Region{0, 0, w, h, true});
   const std::uint8_t* valid = valid_.data();
+  auto stencilClean = [this](int x0, int y0, int x1, int y1) {
+    return dirtyCount(x0, y0, x1, y1) == 0;
+  };
+  auto localClean = [this](int x0, int y0, int x1, int y1) { return cleanLocal(x0, y0, x1, y1); };
   while (!stack_.empty()) {
     const Region r = stack_.back();
     stack_.pop_back();
-    const bool dirty = dirtyCount(r.x0, r.y0, r.x1, r.y1) != 0;
-    const bool onePixel = r.x1 - r.x0 == 1 && r.y1 - r.y0 == 1;
-    if (!dirty || onePixel) {
+    bool leaf;
+    if constexpr (kLocal) {
+      // Clean implies all covered or all empty; 1×1 is always clean.
+      leaf = cleanLocal(r.x0, r.y0, r.x1, r.y1);
+    } else {
+      const bool dirty = dirtyCount(r.x0, r.y0, r.x1, r.y1) != 0;
+      const bool onePixel = r.x1 - r.x0 == 1 && r.y1 - r.y0 == 1;
       // Clean: all covered or all empty (see the header); a dirty 1×1 is
       // always covered, since empty pixels are never dirty.
+      leaf = !dirty || onePixel;
+    }
+    if (leaf) {
       if (valid[static_cast<std::ptrdiff_t>(r.y0) * w + r.x0] != 0) {
         leaves_.push_back(PixelRect{r.x0, r.y0, r.x1, r.y1});
       }
@@ -206,7 +266,7 @@ double LodBuilder::subdivide() {
     bool cutX = r.cutX;
     if (cutX && r.x1 - r.x0 == 1) cutX = false;
     if (!cutX && r.y1 - r.y0 == 1) cutX = true;
-    const int c = findCut(r, cutX);
+    const int c = kLocal ? findCut(r, cutX, localClean) : findCut(r, cutX, stencilClean);
     // Push the far part first so the near (left/top) part is processed first.
     if (cutX) {
       HW_CHECK(c > r.x0 && c < r.x1);
@@ -218,7 +278,278 @@ double LodBuilder::subdivide() {
       stack_.push_back(Region{r.x0, r.y0, r.x1, c, true});
     }
   }
-  return sw.ms();
+}
+
+namespace {
+
+// Per-axis stencil state of a covered pixel (RegionLocal): clean, dirty
+// (|Δ²| > τ, or not finite: overflowing z'), or missing (the stencil leaves
+// the image or touches an empty pixel).
+constexpr std::int8_t kStencilClean = 0, kStencilDirty = 1, kStencilMissing = 2;
+inline std::int8_t stencilState(double d2, double tau) {
+  return std::fabs(d2) <= tau ? kStencilClean : kStencilDirty;
+}
+inline bool stencilDirty(std::int8_t s) { return s == kStencilDirty; }
+// Two neighbours whose full stencils (reaching outside any 2-wide region
+// that holds them) are both dirty: a step, a crease or a 2-pixel-thin object
+// between them; the data inside the pair cannot tell which (any two values
+// fit a line). A missing stencil (image border, empty neighbour) is no
+// evidence.
+inline bool bothDirty(std::int8_t a, std::int8_t b) { return stencilDirty(a) && stencilDirty(b); }
+
+}  // namespace
+
+void LodBuilder::buildLocalTables() {
+  const int w = valid_.width(), h = valid_.height();
+  const double tau = tauZPrime_;
+  const bool fivePoint = options_.criterion == DeltaCriterion::FivePoint;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  stateX_.resize(n);
+  stateY_.resize(n);
+  innerDirty_.resize(n);
+  // Pass 1: per-pixel stencil states along x and y, and the interior test.
+  // A stencil exists when its three pixels are inside the image and covered.
+  for (int y = 0; y < h; ++y) {
+    const double* zr = zPrime_.row(y);
+    const double* zu = y > 0 ? zPrime_.row(y - 1) : nullptr;
+    const double* zd = y + 1 < h ? zPrime_.row(y + 1) : nullptr;
+    const std::uint8_t* vr = valid_.view().row(y);
+    const std::uint8_t* vu = y > 0 ? valid_.view().row(y - 1) : nullptr;
+    const std::uint8_t* vd = y + 1 < h ? valid_.view().row(y + 1) : nullptr;
+    std::int8_t* sx = stateX_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    std::int8_t* sy = stateY_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    std::uint8_t* in = innerDirty_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    for (int x = 0; x < w; ++x) {
+      sx[x] = sy[x] = kStencilMissing;
+      in[x] = 0;
+      if (vr[x] == 0) continue;
+      const bool hasX = x > 0 && x + 1 < w && vr[x - 1] != 0 && vr[x + 1] != 0;
+      const bool hasY = zu != nullptr && zd != nullptr && vu[x] != 0 && vd[x] != 0;
+      const double dx = hasX ? 2.0 * zr[x] - zr[x - 1] - zr[x + 1] : 0.0;
+      const double dy = hasY ? 2.0 * zr[x] - zu[x] - zd[x] : 0.0;
+      if (hasX) sx[x] = stencilState(dx, tau);
+      if (hasY) sy[x] = stencilState(dy, tau);
+      // Only read for pixels inside a covered region's interior, where both
+      // stencils exist.
+      if (fivePoint) {
+        in[x] = hasX && hasY && !(std::fabs(dx + dy) <= tau);
+      } else {
+        in[x] = (hasX && !(std::fabs(dx) <= tau)) || (hasY && !(std::fabs(dy) <= tau));
+      }
+    }
+  }
+  // Pass 2: the six summed-area tables.
+  for (auto& t : local_) {
+    t.resize(static_cast<std::size_t>(w + 1) * (h + 1));
+    std::fill(t.begin(), t.begin() + satStride_, 0);
+  }
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* vr = valid_.view().row(y);
+    const std::uint8_t* vd = y + 1 < h ? valid_.view().row(y + 1) : nullptr;
+    const std::int8_t* sx = stateX_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    const std::int8_t* sy = stateY_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    const std::int8_t* syd = vd ? sy + w : nullptr;
+    const std::uint8_t* in = innerDirty_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    std::int32_t* cur[kLocalTables];
+    const std::int32_t* prev[kLocalTables];
+    for (int t = 0; t < kLocalTables; ++t) {
+      cur[t] = local_[t].data() + static_cast<std::ptrdiff_t>(y + 1) * satStride_;
+      prev[t] = local_[t].data() + static_cast<std::ptrdiff_t>(y) * satStride_;
+      cur[t][0] = 0;
+    }
+    for (int x = 0; x < w; ++x) {
+      const bool v = vr[x] != 0;
+      cur[kValid][x + 1] = v;
+      cur[kInner][x + 1] = v && in[x] != 0;
+      cur[kOnlyX][x + 1] = v && stencilDirty(sx[x]);
+      cur[kOnlyY][x + 1] = v && stencilDirty(sy[x]);
+      cur[kStepX][x + 1] = v && x + 1 < w && vr[x + 1] && bothDirty(sx[x], sx[x + 1]);
+      cur[kStepY][x + 1] = v && vd && vd[x] && bothDirty(sy[x], syd[x]);
+    }
+    for (int t = 0; t < kLocalTables; ++t) {
+      std::int32_t* __restrict c = cur[t];
+      const std::int32_t* __restrict p = prev[t];
+      for (int x = 0; x < w; ++x) c[x + 1] += c[x];
+      for (int x = 1; x <= w; ++x) c[x] += p[x];
+    }
+  }
+}
+
+bool LodBuilder::cleanLocal(int x0, int y0, int x1, int y1) const {
+  const long long area = static_cast<long long>(x1 - x0) * (y1 - y0);
+  const std::int32_t v = localCount(kValid, x0, y0, x1, y1);
+  if (v == 0) return true;      // all empty: dropped
+  if (v != area) return false;  // mixed coverage is never a leaf
+  // Interior: both stencils inside. Border rows: only Δ²ₓ; border columns:
+  // only Δ²ᵧ; the four corner pixels have neither.
+  if (localCount(kInner, x0 + 1, y0 + 1, x1 - 1, y1 - 1) != 0) return false;
+  if (localCount(kOnlyX, x0 + 1, y0, x1 - 1, y0 + 1) != 0) return false;
+  if (localCount(kOnlyX, x0 + 1, y1 - 1, x1 - 1, y1) != 0) return false;
+  if (localCount(kOnlyY, x0, y0 + 1, x0 + 1, y1 - 1) != 0) return false;
+  if (localCount(kOnlyY, x1 - 1, y0 + 1, x1, y1 - 1) != 0) return false;
+  if (x1 - x0 == 2 && localCount(kStepX, x0, y0, x0 + 1, y1) != 0) return false;
+  if (y1 - y0 == 2 && localCount(kStepY, x0, y0, x1, y0 + 1) != 0) return false;
+  return true;
+}
+
+namespace {
+
+// Σ(u − ū)² over a w×h grid of pixel centres (u along the w side).
+inline double gridSuu(int w, int h) {
+  return h * (static_cast<double>(w) * (static_cast<double>(w) * w - 1.0) / 12.0);
+}
+
+}  // namespace
+
+void LodBuilder::mergeLeaves() {
+  // Least-squares plane and max residual of every leaf: two passes over its
+  // pixels (the normal equations decouple on a full grid, as in
+  // recoverCorners).
+  merge_.resize(leaves_.size());
+  for (std::size_t k = 0; k < leaves_.size(); ++k) {
+    const PixelRect& r = leaves_[k];
+    const double icx = 0.5 * (r.x0 + r.x1 - 1), icy = 0.5 * (r.y0 + r.y1 - 1);
+    const double zRef = zPrime_(r.x0, r.y0);
+    double sum = 0, sumU = 0, sumV = 0;
+    for (int y = r.y0; y < r.y1; ++y) {
+      const double* z = zPrime_.row(y);
+      double rs = 0, ru = 0;
+      for (int x = r.x0; x < r.x1; ++x) {
+        const double d = z[x] - zRef;
+        rs += d;
+        ru += d * (x - icx);
+      }
+      sum += rs;
+      sumU += ru;
+      sumV += rs * (y - icy);
+    }
+    const double suu = gridSuu(r.width(), r.height()), svv = gridSuu(r.height(), r.width());
+    MergeLeaf& m = merge_[k];
+    m.r = r;
+    m.a = zRef + sum / static_cast<double>(r.area());
+    m.b = suu > 0 ? sumU / suu : 0.0;
+    m.c = svv > 0 ? sumV / svv : 0.0;
+    double resid = 0;
+    for (int y = r.y0; y < r.y1; ++y) {
+      const double* z = zPrime_.row(y);
+      const double rowPlane = m.a + m.c * (y - icy);
+      for (int x = r.x0; x < r.x1; ++x) {
+        resid = std::max(resid, std::fabs(z[x] - (rowPlane + m.b * (x - icx))));
+      }
+    }
+    m.resid = resid;
+  }
+
+  // Union of the contiguous run m[0..count) (identical spans): its plane from
+  // the members' planes — each member's residual is orthogonal to 1, u, v
+  // over the member, so Σz, Σz·(u − U), Σz·(v − V) follow exactly from
+  // (a, b, c) and the grid moments — and a bound on its max residual:
+  // |P_union − z| ≤ |P_union − P_k| + resid_k on member k, and the first
+  // term is affine, so its max is at the member's corner pixel centres.
+  const double tol = mergeTol_;
+  auto unionOf = [tol](const MergeLeaf* m, int count, MergeLeaf* out) {
+    PixelRect u = m[0].r;
+    for (int k = 1; k < count; ++k) {
+      u.x0 = std::min(u.x0, m[k].r.x0);
+      u.y0 = std::min(u.y0, m[k].r.y0);
+      u.x1 = std::max(u.x1, m[k].r.x1);
+      u.y1 = std::max(u.y1, m[k].r.y1);
+    }
+    const double ucx = 0.5 * (u.x0 + u.x1 - 1), ucy = 0.5 * (u.y0 + u.y1 - 1);
+    const double aRef = m[0].a;
+    double sz = 0, szu = 0, szv = 0;
+    for (int k = 0; k < count; ++k) {
+      const PixelRect& r = m[k].r;
+      const double nk = static_cast<double>(r.area()), da = m[k].a - aRef;
+      const double cx = 0.5 * (r.x0 + r.x1 - 1), cy = 0.5 * (r.y0 + r.y1 - 1);
+      sz += nk * da;
+      szu += nk * da * (cx - ucx) + m[k].b * gridSuu(r.width(), r.height());
+      szv += nk * da * (cy - ucy) + m[k].c * gridSuu(r.height(), r.width());
+    }
+    const double suu = gridSuu(u.width(), u.height()), svv = gridSuu(u.height(), u.width());
+    const double a = aRef + sz / static_cast<double>(u.area());
+    const double b = suu > 0 ? szu / suu : 0.0;
+    const double c = svv > 0 ? szv / svv : 0.0;
+    double bound = 0;
+    for (int k = 0; k < count; ++k) {
+      const PixelRect& r = m[k].r;
+      const double cx = 0.5 * (r.x0 + r.x1 - 1), cy = 0.5 * (r.y0 + r.y1 - 1);
+      for (const int px : {r.x0, r.x1 - 1})
+        for (const int py : {r.y0, r.y1 - 1}) {
+          const double pu = a + b * (px - ucx) + c * (py - ucy);
+          const double pk = m[k].a + m[k].b * (px - cx) + m[k].c * (py - cy);
+          bound = std::max(bound, std::fabs(pu - pk) + m[k].resid);
+        }
+      if (!(bound <= tol)) return false;
+    }
+    *out = MergeLeaf{u, a, b, c, bound};
+    return true;
+  };
+
+  // Any two lines fit a plane exactly along the direction that crosses them,
+  // so a union exactly 2 pixels along the merge direction would pass across
+  // a depth step (a rubber sheet). The same guard as RegionLocal's 2-wide
+  // regions: refused where, in some line, both pixels' full second
+  // differences along that direction exceed τ (missing stencils: no
+  // evidence).
+  const int w = valid_.width(), h = valid_.height();
+  const double tau = tauZPrime_;
+  auto dirtyAt = [&](int x, int y, bool alongY) {
+    const int dx = alongY ? 0 : 1, dy = alongY ? 1 : 0;
+    const int xa = x - dx, ya = y - dy, xb = x + dx, yb = y + dy;
+    if (xa < 0 || ya < 0 || xb >= w || yb >= h) return false;
+    if (valid_(xa, ya) == 0 || valid_(xb, yb) == 0) return false;
+    const double d2 = 2.0 * zPrime_(x, y) - zPrime_(xa, ya) - zPrime_(xb, yb);
+    return !(std::fabs(d2) <= tau);
+  };
+  auto twoLineStep = [&](const PixelRect& u, bool alongY) {
+    if ((alongY ? u.height() : u.width()) != 2) return false;
+    if (alongY) {
+      for (int x = u.x0; x < u.x1; ++x)
+        if (dirtyAt(x, u.y0, true) && dirtyAt(x, u.y0 + 1, true)) return true;
+    } else {
+      for (int y = u.y0; y < u.y1; ++y)
+        if (dirtyAt(u.x0, y, false) && dirtyAt(u.x0 + 1, y, false)) return true;
+    }
+    return false;
+  };
+
+  // Greedy runs: along y (same x span, stacked), then along x, alternating
+  // until two passes in a row merge nothing.
+  int idle = 0;
+  for (int pass = 0; pass < 4 && idle < 2; ++pass) {
+    const bool alongY = pass % 2 == 0;
+    auto key = [alongY](const MergeLeaf& m) {
+      return alongY ? std::array<int, 3>{m.r.x0, m.r.x1, m.r.y0}
+                    : std::array<int, 3>{m.r.y0, m.r.y1, m.r.x0};
+    };
+    std::sort(merge_.begin(), merge_.end(),
+              [&](const MergeLeaf& p, const MergeLeaf& q) { return key(p) < key(q); });
+    auto follows = [alongY](const MergeLeaf& p, const MergeLeaf& q) {
+      return alongY ? p.r.x0 == q.r.x0 && p.r.x1 == q.r.x1 && p.r.y1 == q.r.y0
+                    : p.r.y0 == q.r.y0 && p.r.y1 == q.r.y1 && p.r.x1 == q.r.x0;
+    };
+    mergeOut_.clear();
+    bool any = false;
+    const int n = static_cast<int>(merge_.size());
+    for (int i = 0; i < n;) {
+      MergeLeaf acc = merge_[i];
+      int j = i + 1;
+      MergeLeaf cand;
+      while (j < n && j - i < kMaxMergeRun && follows(merge_[j - 1], merge_[j]) &&
+             unionOf(merge_.data() + i, j - i + 1, &cand) && !twoLineStep(cand.r, alongY)) {
+        acc = cand;
+        ++j;
+      }
+      any |= j - i > 1;
+      mergeOut_.push_back(acc);
+      i = j;
+    }
+    merge_.swap(mergeOut_);
+    idle = any ? 0 : idle + 1;
+  }
+  leaves_.resize(merge_.size());
+  for (std::size_t k = 0; k < merge_.size(); ++k) leaves_[k] = merge_[k].r;
 }
 
 namespace {

@@ -16,6 +16,42 @@
 
 namespace hw::keyframe {
 
+// How a region is judged planar (DESIGN.md "Binary subdivision", the known
+// weakness; issue 9 "edge-strip problem").
+//  Stencil:     the paper's rule: a region is planar when no pixel in it has
+//               |Δ²| > τ, each pixel's stencil (eq. 3, or per axis) reaching
+//               across the region's border. Every pixel beside a depth edge is
+//               dirty, so each edge leaves a one-pixel strip on both sides.
+//  RegionLocal: only second differences whose three pixels all lie inside the
+//               region count (one-sided at its borders): Δ²ₓ at columns
+//               x0+1 … x1−2 and Δ²ᵧ at rows y0+1 … y1−2. With FivePoint, the
+//               5-point sum is used where both stencils are inside (the
+//               region's interior), and the single-axis term where only one is
+//               (its border rows resp. columns); corner pixels have neither.
+//               PerAxisMax is max(|Δ²ₓ|, |Δ²ᵧ|) over the stencils inside.
+//               Two guards the stencils alone cannot give:
+//                - coverage: a region holding both empty and covered pixels
+//                  is never a leaf (every stencil touching an empty pixel is
+//                  otherwise ignored);
+//                - 2-wide regions: a region 2 pixels wide (tall) has no
+//                  Δ²ₓ (Δ²ᵧ) inside, and any two columns fit a plane, so one
+//                  straddling a depth step would pass as a steep plane (a
+//                  rubber sheet from the near surface to the far one), and
+//                  one straddling a crease as a twisted one. Such a region is
+//                  dirty where, in some row (column), the full stencils of
+//                  both its pixels are dirty. That also splits 2-pixel-thin
+//                  objects into 1-wide columns: the data cannot tell them
+//                  from a step. Where a full stencil is missing (image
+//                  border, empty neighbour) there is no evidence, and such a
+//                  2-wide leaf may straddle a step.
+//               Cuts follow the paper's rule, with "the first k lines are
+//               clean" meaning "the k-line part is region-locally planar", so
+//               a cut lands exactly on a step instead of one line before it.
+enum class Planarity : std::uint8_t { Stencil, RegionLocal };
+const char* planarityName(Planarity p);  // "stencil", "region-local"
+// Parses the names above; false (and *out untouched) for anything else.
+bool parsePlanarity(const char* s, Planarity* out);
+
 struct LodOptions {
   // Threshold on |Δ²z'| in z' units (2^24 scale, eq. 2). The paper's reference
   // points are 2^11 and 2^15. Must be finite and >= 0.
@@ -26,7 +62,28 @@ struct LodOptions {
   // cause. Converted to z' units per keyframe (see tauFromParallax). Must be
   // finite and >= 0.
   double tauParallaxPx = 0.0;
+  // Planarity test of the subdivision (see Planarity). Stencil is the paper's.
+  Planarity planarity = Planarity::Stencil;
+  // After subdivision, merge adjacent leaves with identical spans along their
+  // shared side (in particular runs of 1×1 leaves into 1×N / N×1 strips)
+  // when the union is planar: the least-squares plane of z' over the union
+  // departs from every pixel by at most mergeToleranceZPrime. Greedy runs
+  // along y, then x, repeated while anything merges (at most 4 passes), at
+  // most kMaxMergeRun leaves per run; O(L log L) in the leaf count L plus two
+  // passes over the pixels. Merged leaves are not planar by the Δ² test, so
+  // Quad::maxDelta of a merged quad may exceed τ.
+  bool mergeStrips = false;
+  // Merge tolerance in z' units; 0 = automatic: max(τ/4, kMergeNoiseFloor),
+  // τ in z' units (after tauParallaxPx). τ/4 keeps merged quads as flat as
+  // the Δ² test keeps leaves (a leaf with |Δ²| ≤ τ bends by up to τ/8 per
+  // pixel² from its tangent plane); the floor is above the depth noise of a
+  // rendered plane (NOTES-GL.md: Laplacian residual 3–11, i.e. ±2–3 per
+  // pixel). Must be finite and >= 0.
+  double mergeToleranceZPrime = 0.0;
 };
+
+inline constexpr double kMergeNoiseFloor = 4.0;  // z' units
+inline constexpr int kMaxMergeRun = 256;         // leaves per merged run
 
 // The z'-unit threshold equivalent to a parallax bound p (pixels per scene
 // unit of camera motion) for this camera.
@@ -52,13 +109,16 @@ double tauFromParallax(double parallaxPx, const Camera& camera);
 // (kDeltaDiscontinuity), so a clean region is either fully covered (a leaf) or
 // fully empty (dropped). This is exactly the paper's rule applied to a depth
 // buffer whose background is a constant far plane, minus the background quads.
+// LodOptions::planarity and mergeStrips select the variants of issue 9; with
+// their defaults the result is the paper's rule, exactly as above.
 class LodBuilder {
  public:
   // Whole build. Bad input returns an error and leaves *out empty:
   //  - zPrime/covered of different sizes, or not camera.width × camera.height;
   //  - an empty image (0 pixels) or one with more than 2^30 pixels;
   //  - a camera with non-finite pose, fov outside (0, π), or not 0 < near < far;
-  //  - tau / tauParallaxPx negative or non-finite.
+  //  - tau / tauParallaxPx / mergeToleranceZPrime negative or non-finite;
+  //  - an unknown criterion or planarity.
   // Non-finite z' at a covered pixel is treated as empty. Every corner of the
   // result is finite, with 0 < eyeZ (see clamping in recoverCorners).
   Status build(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
@@ -85,8 +145,8 @@ class LodBuilder {
   // prepare: validates, computes the valid mask and the Δ buffer.
   Status prepare(ImageView<const double> zPrime, ImageView<const std::uint8_t> covered,
                  const Camera& camera, const LodOptions& options);
-  // subdivide: the dirty-mask summed-area table and the binary subdivision;
-  // fills leaves(). Returns its time in ms.
+  // subdivide: the dirty-mask summed-area table(s), the binary subdivision and
+  // (mergeStrips) the merge; fills leaves(). Returns its time in ms.
   double subdivide();
   // recoverCorners: one Quad per leaf into out (resets it). Returns ms.
   double recoverCorners(QuadMesh* out);
@@ -95,6 +155,9 @@ class LodBuilder {
   const Image<float>& delta() const { return delta_; }
   const Image<std::uint8_t>& valid() const { return valid_; }
   const std::vector<PixelRect>& leaves() const { return leaves_; }
+  // Leaves before mergeStrips (equal to leaves().size() without it).
+  int leavesBeforeMerge() const { return leavesBeforeMerge_; }
+  double mergeToleranceZPrime() const { return mergeTol_; }
   double tauZPrime() const { return tauZPrime_; }
 
  private:
@@ -108,18 +171,48 @@ class LodBuilder {
     const std::int32_t* b = sat_.data() + static_cast<std::ptrdiff_t>(y1) * satStride_;
     return b[x1] - b[x0] - a[x1] + a[x0];
   }
-  int findCut(const Region& r, bool cutX) const;
+  template <class Clean>
+  int findCut(const Region& r, bool cutX, Clean regionClean) const;
+  // Region-local planarity (Planarity::RegionLocal), O(1) from the tables.
+  bool cleanLocal(int x0, int y0, int x1, int y1) const;
+  void buildLocalTables();
+  template <bool kLocal>
+  void subdivideRegions();
+  void mergeLeaves();
 
   ImageView<const double> zPrime_;
   Camera camera_;
   LodOptions options_;
   double tauZPrime_ = 0;
+  double mergeTol_ = 0;
+  int leavesBeforeMerge_ = 0;
   double deltaMs_ = 0;
   long long emptyPixels_ = 0;
   Image<std::uint8_t> valid_;
   Image<float> delta_;
   std::vector<std::int32_t> sat_;  // (w+1)×(h+1) prefix counts of dirty pixels
   std::ptrdiff_t satStride_ = 0;
+  // Region-local tables, (w+1)×(h+1) prefix counts each: valid pixels; dirty
+  // interior (both stencils), x-only and y-only pixels; pairs (x, x+1) resp.
+  // (y, y+1) whose full stencils are both dirty.
+  enum LocalTable { kValid, kInner, kOnlyX, kOnlyY, kStepX, kStepY, kLocalTables };
+  std::int32_t localCount(LocalTable t, int x0, int y0, int x1, int y1) const {
+    if (x0 >= x1 || y0 >= y1) return 0;
+    const std::int32_t* s = local_[t].data();
+    const std::int32_t* a = s + static_cast<std::ptrdiff_t>(y0) * satStride_;
+    const std::int32_t* b = s + static_cast<std::ptrdiff_t>(y1) * satStride_;
+    return b[x1] - b[x0] - a[x1] + a[x0];
+  }
+  std::vector<std::int32_t> local_[kLocalTables];
+  std::vector<std::int8_t> stateX_, stateY_;  // per pixel: 0 clean, 1 dirty, 2 missing
+  std::vector<std::uint8_t> innerDirty_;      // per pixel: dirty with both stencils
+  // A leaf with its least-squares plane z' = a + b·(x − cx) + c·(y − cy),
+  // (cx, cy) its centre in pixel indices, and max |z' − plane| (or a bound).
+  struct MergeLeaf {
+    PixelRect r;
+    double a, b, c, resid;
+  };
+  std::vector<MergeLeaf> merge_, mergeOut_;
   std::vector<Region> stack_;
   std::vector<PixelRect> leaves_;
   bool prepared_ = false;
