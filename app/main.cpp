@@ -189,7 +189,8 @@ int main(int argc, char** argv) {
   // walk
   Common walkC;
   std::string walkOut = "out/walk", tauS = "2^11", criterion = "five-point", compose = "overlay",
-              texcoords = "projective";
+              texcoords = "projective", planarity = "stencil";
+  bool mergeStrips = false;
   double tauPx = 0;
   bool noRef = false, saveFrames = false, quiet = false, noSky = false;
   int strips = 4;
@@ -208,6 +209,14 @@ int main(int argc, char** argv) {
                    "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
+  walk->add_option("--planarity", planarity,
+                   "Planarity test: stencil (paper: Δ² stencils reach across region borders) or "
+                   "region-local (second differences only inside the region; no one-pixel strips "
+                   "along edges)")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  walk->add_flag("--merge-strips", mergeStrips,
+                 "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger quads");
   walk->add_option("--compose", compose,
                    "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
                    "(per-pixel nearer of the two layers)")
@@ -256,6 +265,12 @@ int main(int argc, char** argv) {
   lod->add_option("--criterion", lodCriterion, "five-point or per-axis-max")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
+  std::string lodPlanarity = "stencil";
+  bool lodMerge = false;
+  lod->add_option("--planarity", lodPlanarity, "stencil (paper) or region-local")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  lod->add_flag("--merge-strips", lodMerge, "Merge adjacent coplanar leaves");
   lod->add_option("--out", lodOut, "Overlay PNG path")->capture_default_str();
 
   // sweep
@@ -273,6 +288,9 @@ int main(int argc, char** argv) {
                     "2^6..2^16)");
   sweep->add_flag("--five-point-only", sweepOneCriterion, "Skip the per-axis-max criterion");
   sweep->add_flag("--no-baselines", sweepNoBaselines, "Skip uniform tiles and per-pixel meshes");
+  bool sweepNoVariants = false;
+  sweep->add_flag("--no-variants", sweepNoVariants,
+                  "Skip the edge-strip variants (region-local planarity, strip merging)");
   sweep->add_option("--overlay-frame", sweepOverlayFrame,
                     "Frame whose quad mesh is drawn per tau (default: the middle keyframe)");
   sweep->add_option("--out", sweepOut, "Output directory")->capture_default_str();
@@ -432,6 +450,7 @@ int main(int argc, char** argv) {
     }
     so.bothCriteria = !sweepOneCriterion;
     so.baselines = !sweepNoBaselines;
+    so.variants = !sweepNoVariants;
     so.maxFrames = sweepC.frames;
     so.depthMode = depthModeOf(sweepC.depth);
     so.overlayFrame = sweepOverlayFrame;
@@ -453,6 +472,8 @@ int main(int argc, char** argv) {
     if (!parseTau(lodTau, &lo.tau))
       return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + lodTau + "'");
     keyframe::parseDeltaCriterion(lodCriterion.c_str(), &lo.criterion);
+    keyframe::parsePlanarity(lodPlanarity.c_str(), &lo.planarity);
+    lo.mergeStrips = lodMerge;
     auto in = loadInputs(lodC);
     if (!in) return fail(in.error().message);
     if (lodFrame >= in->path.frames)
@@ -477,6 +498,8 @@ int main(int argc, char** argv) {
               {"resolution", {kf.colour.width(), kf.colour.height()}},
               {"tau", lo.tau},
               {"criterion", lodCriterion},
+              {"planarity", lodPlanarity},
+              {"merge_strips", lodMerge},
               {"depth_mode", lodC.depth},
               {"quads", st.quads},
               {"one_pixel_leaves", st.onePixelLeaves},
@@ -498,6 +521,8 @@ int main(int argc, char** argv) {
     return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + tauS + "'");
   wo.lod.tauParallaxPx = tauPx;
   keyframe::parseDeltaCriterion(criterion.c_str(), &wo.lod.criterion);
+  keyframe::parsePlanarity(planarity.c_str(), &wo.lod.planarity);
+  wo.lod.mergeStrips = mergeStrips;
   gapfill::parseComposeMode(compose.c_str(), &wo.compose.mode);
   wo.warp.texcoords = texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
   wo.warp.skyBackdrop = !noSky;

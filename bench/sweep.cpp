@@ -33,9 +33,17 @@ struct Run {
   keyframe::DeltaCriterion criterion = keyframe::DeltaCriterion::FivePoint;
   double tau = 0;
   int tileSize = 0;
+  keyframe::Planarity planarity = keyframe::Planarity::Stencil;
+  bool mergeStrips = false;
+  std::string variant() const {
+    std::string v = keyframe::planarityName(planarity);
+    if (mergeStrips) v += "+merge";
+    return v;
+  }
   std::string method() const {
     if (mesh == keyframe::MeshMethod::Lod)
-      return std::string("lod ") + keyframe::deltaCriterionName(criterion);
+      return std::string("lod ") + keyframe::deltaCriterionName(criterion) +
+             (planarity == keyframe::Planarity::Stencil && !mergeStrips ? "" : " " + variant());
     return keyframe::meshMethodName(mesh);
   }
 };
@@ -71,10 +79,19 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   HW_TRY((*renderer)->renderKeyframe(path.cameraAt(overlayFrame), overlayKf));
 
   std::vector<Run> runs;
+  using keyframe::Planarity;
   for (double tau : taus) {
     runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0});
     if (opt.bothCriteria)
       runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::PerAxisMax, tau, 0});
+    if (opt.variants) {  // issue #9's edge-strip variants, five-point
+      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                      Planarity::RegionLocal, false});
+      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                      Planarity::Stencil, true});
+      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                      Planarity::RegionLocal, true});
+    }
   }
   json rows = json::array();
   std::set<int> tileSizesDone;
@@ -91,6 +108,8 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     WalkOptions w;
     w.lod.tau = r.tau;
     w.lod.criterion = r.criterion;
+    w.lod.planarity = r.planarity;
+    w.lod.mergeStrips = r.mergeStrips;
     w.mesh = r.mesh;
     w.tileSize = r.tileSize;
     w.depthMode = opt.depthMode;
@@ -105,6 +124,7 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     json row = {{"method", r.method()},
                 {"mesh", keyframe::meshMethodName(r.mesh)},
                 {"criterion", r.mesh == keyframe::MeshMethod::Lod ? json(keyframe::deltaCriterionName(r.criterion)) : json(nullptr)},
+                {"variant", r.mesh == keyframe::MeshMethod::Lod ? json(r.variant()) : json(nullptr)},
                 {"tau", r.mesh == keyframe::MeshMethod::Lod ? json(r.tau) : json(nullptr)},
                 {"tile_size", r.mesh == keyframe::MeshMethod::UniformTiles ? json(r.tileSize) : json(nullptr)},
                 {"quads_per_keyframe", s["quads_per_keyframe"]},
@@ -132,7 +152,7 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   if (opt.baselines) {
     // Uniform tiles at the quad count of each five-point τ (median per keyframe).
     for (const json& row : std::vector<json>(rows.begin(), rows.end())) {
-      if (row["criterion"] != "five-point") continue;
+      if (row["criterion"] != "five-point" || row["variant"] != "stencil") continue;
       const double q = num(row["quads_per_keyframe"]["median"]);
       const int ts = keyframe::tileSizeForQuadCount(overlayKf, static_cast<long long>(std::llround(q)));
       if (tileSizesDone.count(ts)) {
@@ -229,15 +249,16 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
               {"machine", machineInfo(opt.glRenderer, opt.glVersion)}};
 
   std::string csv =
-      "method,criterion,tau,tile_size,quads_per_keyframe,lod_build_ms,in_between_ms_median,"
+      "method,criterion,variant,tau,tile_size,quads_per_keyframe,lod_build_ms,in_between_ms_median,"
       "in_between_ms_p95,psnr_median,psnr_p5,ssim_median,ssim_p5,holes_before_median\n";
   std::vector<std::vector<std::string>> table;
   for (const json& r : rows) {
     const std::string crit = r["criterion"].is_string() ? r["criterion"].get<std::string>() : "";
+    const std::string variant = r["variant"].is_string() ? r["variant"].get<std::string>() : "";
     const std::string tau = r["tau"].is_number() ? fmt(num(r["tau"]), 0) : "";
     const std::string tile = r["tile_size"].is_number() ? std::to_string(r["tile_size"].get<int>()) : "";
     const std::vector<std::string> cells = {
-        r["mesh"].get<std::string>(), crit, tau, tile,
+        r["mesh"].get<std::string>(), crit, variant, tau, tile,
         fmt(num(r["quads_per_keyframe"]["median"]), 0), fmt(num(r["lod_build_ms"]["median"])),
         fmt(num(r["in_between_ms"]["median"])), fmt(num(r["in_between_ms"]["p95"])),
         fmt(num(r["psnr"]["median"])), fmt(num(r["psnr"]["p5"])), fmt(num(r["ssim"]["median"]), 4),
@@ -262,7 +283,7 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   page.images({"pareto.png"}, {"median PSNR vs median in-between ms, one curve per method"});
   page.images({"quads_vs_tau.png", "psnr_vs_tau.png"});
   page.heading("Table");
-  page.table({"mesh", "criterion", "tau", "tile px", "quads/keyframe", "LOD build ms",
+  page.table({"mesh", "criterion", "variant", "tau", "tile px", "quads/keyframe", "LOD build ms",
               "in-between ms", "p95 ms", "PSNR dB", "PSNR p5", "SSIM", "SSIM p5", "holes %"},
              table);
   page.heading("Quad meshes of frame " + std::to_string(overlayFrame) + " (five-point)");

@@ -20,6 +20,7 @@ struct SweepOptions {
   std::vector<double> taus;   // z' units; empty = 2^6, 2^7, …, 2^16
   bool bothCriteria = true;   // five-point and per-axis max (else five-point only)
   bool baselines = true;      // uniform tiles (matched to each five-point τ) and per-pixel
+  bool variants = true;       // region-local planarity and strip merging (issue #9), five-point
   int maxFrames = 0;          // frames of the path per run; 0 = all
   DepthMode depthMode = DepthMode::Fixed24;
   int overlayFrame = -1;      // keyframe for the overlays; −1 = the middle keyframe

@@ -260,6 +260,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["tau_parallax_px"] = opt.lod.tauParallaxPx;
   summary["criterion"] = keyframe::deltaCriterionName(opt.lod.criterion);
   summary["mesh"] = keyframe::meshMethodName(opt.mesh);
+  summary["planarity"] = keyframe::planarityName(opt.lod.planarity);
+  summary["merge_strips"] = opt.lod.mergeStrips;
   summary["tile_size"] = opt.mesh == keyframe::MeshMethod::UniformTiles ? json(opt.tileSize) : json(nullptr);
   summary["depth_mode"] = depthModeName(opt.depthMode);
   summary["compose_mode"] = gapfill::composeModeName(opt.compose.mode);

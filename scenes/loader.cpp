@@ -25,7 +25,9 @@
 #include <string_view>
 
 #include "core/file_io.h"
+#include "scenes/fetch.h"
 #include "scenes/procedural.h"
+#include "scenes/q3bsp.h"
 
 namespace hw::scenes {
 namespace {
@@ -278,7 +280,7 @@ struct BuiltinSpec {
 
 const char* const kBuiltinHelp =
     "built-in scenes: indoor, outdoor, indoor:N, outdoor:N (N = target triangles, e.g. 100k, 1M; "
-    "default 100k)";
+    "default 100k); q3:MAPNAME for an OpenArena map (see `hybridwalk scenes fetch`)";
 
 // nullopt: not a built-in name; error: a built-in name with a bad count.
 Result<std::optional<BuiltinSpec>> parseBuiltin(const std::string& spec) {
@@ -516,9 +518,34 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
   }
 }
 
+namespace {
+
+// "q3:MAP": an OpenArena/Quake 3 map from the pk3s of the scene cache
+// (`hybridwalk scenes fetch`) and of $HYBRIDWALK_PK3_DIR (scenes/fetch.h).
+std::optional<std::string> q3MapName(const std::string& spec) {
+  if (spec.size() > 3 && toLower(spec.substr(0, 3)) == "q3:") return spec.substr(3);
+  return std::nullopt;
+}
+
+Result<Q3Map> loadQ3Spec(const std::string& mapName) {
+  Q3Options o;
+  o.pk3Paths = defaultPk3Paths();
+  if (o.pk3Paths.empty())
+    return makeError("scene 'q3:" + mapName + "': no .pk3 files in " + defaultSceneCacheDir() +
+                     "/root or $HYBRIDWALK_PK3_DIR (run `hybridwalk scenes fetch` first)");
+  return loadQ3Map(mapName, o);
+}
+
+}  // namespace
+
 Result<Scene> loadScene(const std::string& spec) {
   std::error_code ec;
   if (!spec.empty() && fs::exists(spec, ec)) return loadSceneFile(spec);
+  if (auto q3 = q3MapName(spec)) {
+    auto map = loadQ3Spec(*q3);
+    if (!map) return map.error();
+    return std::move(map->scene);
+  }
   auto builtin = parseBuiltin(spec);
   if (!builtin) return builtin.error();
   if (*builtin) {
@@ -531,6 +558,11 @@ Result<Scene> loadScene(const std::string& spec) {
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
   std::error_code ec;
+  if (auto q3 = q3MapName(spec); q3 && !fs::exists(spec, ec)) {
+    auto map = loadQ3Spec(*q3);
+    if (!map) return map.error();
+    return q3SpawnWalk(*map);
+  }
   if (spec.empty() || !fs::exists(spec, ec)) {
     auto builtin = parseBuiltin(spec);
     if (!builtin) return builtin.error();

@@ -17,10 +17,12 @@ is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a
 "$hw" sweep --scene indoor:20k --frames 11 --tau 2^8,2^11,2^15 --out "$tmp/s" --quiet >"$tmp/out" 2>&1
 check "sweep exits 0 ($(tail -2 "$tmp/out"))" test $? -eq 0
 check "sweep.json" test -s "$tmp/s/sweep.json"
-# 3 taus x 2 criteria + tile baselines (1..3, deduplicated) + per-pixel, plus a header line.
+# 3 taus x (2 criteria + 3 variants) + tile baselines (1..3, deduplicated) + per-pixel.
 rows=$(($(wc -l <"$tmp/s/sweep.csv") - 1))
-check "sweep.csv has 8..10 rows (got $rows)" test "$rows" -ge 8 -a "$rows" -le 10
-check "five-point rows" test "$(grep -c ',five-point,' "$tmp/s/sweep.csv")" -eq 3
+check "sweep.csv has 17..19 rows (got $rows)" test "$rows" -ge 17 -a "$rows" -le 19
+check "five-point rows" test "$(grep -c ',five-point,' "$tmp/s/sweep.csv")" -eq 12
+check "region-local rows" test "$(grep -c ',region-local,' "$tmp/s/sweep.csv")" -eq 3
+check "merge rows" test "$(grep -c '+merge,' "$tmp/s/sweep.csv")" -eq 6
 check "per-axis rows" test "$(grep -c ',per-axis-max,' "$tmp/s/sweep.csv")" -eq 3
 check "per-pixel row" grep -q '^per-pixel,' "$tmp/s/sweep.csv"
 check "uniform tile rows" grep -q '^uniform-tiles,' "$tmp/s/sweep.csv"
