@@ -23,7 +23,9 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
+#include "scenes/fetch.h"
 #include "scenes/loader.h"
+#include "scenes/q3bsp.h"
 
 namespace {
 
@@ -355,6 +357,21 @@ int main(int argc, char** argv) {
   viewCmd->add_flag("--geometry", viewGeometry, "Start in geometry mode instead of hybrid");
   viewCmd->add_flag("--no-hud", viewNoHud, "No on-screen text");
 
+  // scenes fetch | list
+  auto* scenesCmd = app.add_subcommand("scenes", "Real scenes from Debian packages");
+  scenesCmd->require_subcommand(1);
+  std::string cacheDir = scenes::defaultSceneCacheDir();
+  bool fetchQuiet = false;
+  auto* fetchCmd = scenesCmd->add_subcommand(
+      "fetch", "Download the OpenArena map, texture and data packages with apt-get download and "
+               "unpack them into the cache (nothing is installed system-wide; idempotent). Maps "
+               "are then named q3:MAPNAME");
+  fetchCmd->add_option("--dir", cacheDir, "Cache directory ($HYBRIDWALK_CACHE overrides the default)")
+      ->capture_default_str();
+  fetchCmd->add_flag("--quiet", fetchQuiet, "No progress");
+  auto* listCmd = scenesCmd->add_subcommand("list", "List the built-in scenes and the q3: maps in the cache");
+  listCmd->add_option("--dir", cacheDir, "Cache directory")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -363,6 +380,28 @@ int main(int argc, char** argv) {
   }
 
   if (render->parsed()) return runRender(renderC, renderOut);
+
+  if (fetchCmd->parsed()) {
+    if (auto st = scenes::fetchScenePackages(cacheDir, !fetchQuiet); !st) return fail(st.error().message);
+    auto maps = scenes::listQ3Maps(scenes::defaultPk3Paths(cacheDir));
+    if (!maps) return fail(maps.error().message);
+    std::printf("scenes: %zu OpenArena maps in %s; use --scene q3:MAPNAME (e.g. q3:oa_dm5)\n",
+                maps->size(), cacheDir.c_str());
+    return 0;
+  }
+  if (listCmd->parsed()) {
+    std::printf("built-in: indoor, outdoor (append :N for ~N triangles, e.g. indoor:1M)\n");
+    const auto pk3s = scenes::defaultPk3Paths(cacheDir);
+    if (pk3s.empty()) {
+      std::printf("no pk3 files in %s: run 'hybridwalk scenes fetch' for the OpenArena maps\n",
+                  cacheDir.c_str());
+      return 0;
+    }
+    auto maps = scenes::listQ3Maps(pk3s);
+    if (!maps) return fail(maps.error().message);
+    for (const auto& m : *maps) std::printf("q3:%s\n", m.c_str());
+    return 0;
+  }
 
   if (viewCmd->parsed()) {
     if (!parseTau(viewTau, &vo.tau))

@@ -9,6 +9,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh release -DHW_WERROR=ON
+# Real scenes for the OpenArena test: apt-get download into the user cache
+# (idempotent; nothing installed system-wide). Stale package lists: update once.
+build/bin/hybridwalk scenes fetch --quiet || { apt-get update -qq && build/bin/hybridwalk scenes fetch --quiet; }
 # llvmpipe threads: 2 gave the steadiest figures here (NOTES-GL.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 2 --timeout 600)
