@@ -14,7 +14,9 @@ bash scripts/build.sh release -DHW_WERROR=ON
 build/bin/hybridwalk scenes fetch --quiet || { apt-get update -qq && build/bin/hybridwalk scenes fetch --quiet; }
 # llvmpipe threads: 2 gave the steadiest figures here (NOTES-GL.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
-(cd build && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 2 --timeout 600)
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+(cd build && xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j 2 --timeout 600) | tee -a "$log"
 [ "${HW_TEST_QUICK:-0}" = 1 ] && exit 0
 
 echo "== CPU tests under AddressSanitizer + UndefinedBehaviorSanitizer"
@@ -23,7 +25,7 @@ cmake --preset asan -DHW_WERROR=ON >/dev/null
 # shellcheck disable=SC2086
 cmake --build build-asan -j "$(nproc)" --target $cpu_targets
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-  ctest --output-on-failure -j 2 -L cpu --timeout 600)
+  ctest --output-on-failure -j 2 -L cpu --timeout 600) | tee -a "$log"
 
 echo "== libFuzzer targets (${HW_FUZZ_SECONDS:-20} s each)"
 cmake --preset fuzz >/dev/null
@@ -44,4 +46,8 @@ for fz in $fuzzers; do
   rm -rf "$work"
   if [ "$status" -ne 0 ]; then echo "$fz failed (exit $status)"; exit 1; fi
 done
+nfuzz=$(echo "$fuzzers" | wc -w)
+nctest=$(awk '/tests passed, 0 tests failed out of/ { n += $NF } END { print n + 0 }' "$log")
 echo "sanitizers and fuzzers: all passed"
+# One closing line for the whole run: CTest (release + ASan) plus the fuzzers.
+echo "total: $((nctest + nfuzz)) passed, 0 failed"
