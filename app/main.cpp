@@ -69,7 +69,7 @@ bool parseTau(const std::string& s, double* out) {
 struct Common {
   std::string scene = "indoor";
   std::string path;  // empty: the scene's default path
-  std::string depth = "fixed24";
+  std::string depth = depthModeName(kDefaultDepthMode);
   int frames = 0;
 };
 
@@ -84,8 +84,9 @@ void addCommon(CLI::App* c, Common& o) {
                 "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
                 "scene's built-in path");
   c->add_option("--depth", o.depth,
-                "Keyframe depth buffer: fixed24 (the paper's 24-bit z-buffer), float32, "
-                "float32-reversed")
+                "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
+                "far/near 1e5..1e6), fixed24 (the paper's 24-bit z-buffer), float32; all mapped "
+                "to the same z' scale")
       ->check(CLI::IsMember({"fixed24", "float32", "float32-reversed"}))
       ->capture_default_str();
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
@@ -127,7 +128,7 @@ Result<Loaded> loadInputs(const Common& o) {
 }
 
 DepthMode depthModeOf(const std::string& s) {
-  DepthMode m = DepthMode::Fixed24;
+  DepthMode m = kDefaultDepthMode;
   parseDepthMode(s.c_str(), &m);
   return m;
 }
@@ -295,7 +296,8 @@ int main(int argc, char** argv) {
   sweep->add_flag("--no-variants", sweepNoVariants,
                   "Skip the edge-strip variants (region-local planarity, strip merging)");
   sweep->add_option("--overlay-frame", sweepOverlayFrame,
-                    "Frame whose quad mesh is drawn per tau (default: the middle keyframe)");
+                    "Frame whose quad mesh is drawn per tau (default -1: the middle keyframe)")
+      ->check(CLI::Range(-1, 1 << 30));
   sweep->add_option("--out", sweepOut, "Output directory")->capture_default_str();
   sweep->add_flag("--quiet", sweepQuiet, "No progress line");
 
@@ -382,8 +384,27 @@ int main(int argc, char** argv) {
   fetchCmd->add_option("--dir", cacheDir, "Cache directory ($HYBRIDWALK_CACHE overrides the default)")
       ->capture_default_str();
   fetchCmd->add_flag("--quiet", fetchQuiet, "No progress");
+  bool fetchOutdoor = false;
+  fetchCmd->add_flag("--outdoor", fetchOutdoor,
+                     "Also the outdoor scenes: torcs-data (TORCS tracks, torcs:NAME, 333 MB) and "
+                     "morse-simulator-data (MORSE environments, morse:ENV/FILE, 82 MB)");
   auto* listCmd = scenesCmd->add_subcommand("list", "List the built-in scenes and the q3: maps in the cache");
   listCmd->add_option("--dir", cacheDir, "Cache directory")->capture_default_str();
+
+  // CLI11 only says "A subcommand is required" for a misspelt command; name it.
+  auto checkCommand = [&](CLI::App* parent, int argi) -> bool {
+    if (argi >= argc || argv[argi][0] == '-') return true;
+    std::string names;
+    for (const CLI::App* sub : parent->get_subcommands({})) {
+      if (sub->get_name() == argv[argi]) return true;
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    std::fprintf(stderr, "hybridwalk: error: unknown command '%s' (expected one of: %s; see --help)\n",
+                 argv[argi], names.c_str());
+    return false;
+  };
+  if (!checkCommand(&app, 1)) return kExitUsage;
+  if (argc > 1 && std::string(argv[1]) == "scenes" && !checkCommand(scenesCmd, 2)) return kExitUsage;
 
   try {
     app.parse(argc, argv);
@@ -405,12 +426,17 @@ int main(int argc, char** argv) {
     so.glVersion = (*ctx)->version();
     auto res = bench::runStress(so);
     if (!res) return fail(res.error().message);
-    std::printf("stress: open %s/index.html; data in stress.json\n", stressOut.c_str());
+    const int failed = (*res)["cases_failed"].get<int>();
+    std::printf("stress: %s; recommended default depth mode: %s; open %s/index.html\n",
+                failed ? "SOME DEGENERATE CASES FAILED" : "all degenerate cases passed",
+                (*res)["recommended_default"].dump().c_str(), stressOut.c_str());
+    if (failed) return fail(std::to_string(failed) + " degenerate-camera cases failed (see cases.csv)");
     return 0;
   }
 
   if (fetchCmd->parsed()) {
-    if (auto st = scenes::fetchScenePackages(cacheDir, !fetchQuiet); !st) return fail(st.error().message);
+    if (auto st = scenes::fetchScenePackages(cacheDir, !fetchQuiet, fetchOutdoor); !st)
+      return fail(st.error().message);
     auto maps = scenes::listQ3Maps(scenes::defaultPk3Paths(cacheDir));
     if (!maps) return fail(maps.error().message);
     std::printf("scenes: %zu OpenArena maps in %s; use --scene q3:MAPNAME (e.g. q3:oa_dm5)\n",
@@ -600,6 +626,7 @@ int main(int argc, char** argv) {
   wo.maxFrames = walkC.frames;
   wo.outDir = walkOut;
   wo.progress = !quiet;
+  wo.keepFrames = false;  // only the summary is printed; frames go to report.json
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();

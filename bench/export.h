@@ -23,7 +23,7 @@ struct ExportOptions {
   bool progress = true;  // a progress line (frames done, ETA) on stderr
   // Keyframe depth buffer; the exported depth is eye-space z whatever the mode
   // (Float32 gives more precise far depths than the paper's 24-bit buffer).
-  DepthMode depthMode = DepthMode::Fixed24;
+  DepthMode depthMode = kDefaultDepthMode;
 };
 
 // Writes to `outDir` (created if missing; checked writable before anything is

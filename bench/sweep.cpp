@@ -58,8 +58,6 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     for (int e = 6; e <= 16; ++e) taus.push_back(std::ldexp(1.0, e));
   for (double t : taus)
     if (!std::isfinite(t) || t < 0) return makeError("sweep: tau must be finite and >= 0, got " + fmt(t));
-  HW_TRY(ensureWritableDir(opt.outDir));
-  HW_TRY(ensureWritableDir(opt.outDir + "/overlays"));
 
   const int frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
   int overlayFrame = opt.overlayFrame;
@@ -69,6 +67,8 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     return makeError("sweep: overlay frame " + std::to_string(overlayFrame) + " is past the last frame " +
                      std::to_string(frames - 1));
   }
+  HW_TRY(ensureWritableDir(opt.outDir));
+  HW_TRY(ensureWritableDir(opt.outDir + "/overlays"));
 
   // The overlay keyframe: one render, one mesh per τ.
   keyframe::RenderOptions ropt;

@@ -22,7 +22,7 @@ struct SweepOptions {
   bool baselines = true;      // uniform tiles (matched to each five-point τ) and per-pixel
   bool variants = true;       // region-local planarity and strip merging (issue #9), five-point
   int maxFrames = 0;          // frames of the path per run; 0 = all
-  DepthMode depthMode = DepthMode::Fixed24;
+  DepthMode depthMode = kDefaultDepthMode;
   int overlayFrame = -1;      // keyframe for the overlays; −1 = the middle keyframe
   std::string outDir;         // required
   bool progress = true;

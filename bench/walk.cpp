@@ -1,6 +1,10 @@
 #include "bench/walk.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -91,7 +95,27 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   gapfill::Frame frame, previous;
   bool havePrevious = false;
   Image<Rgba8> reference;
+  // Per-frame entries: kept as JSON for callers that read them, otherwise
+  // streamed to a scratch file beside the report, so a 10,000-frame walk's
+  // memory stays flat (about 3 KiB per frame as JSON objects).
   json framesJson = json::array();
+  std::vector<double> speedup;
+  const std::string framesScratch =
+      writing ? opt.outDir + "/.report-frames.tmp-" + std::to_string(::getpid()) : std::string();
+  std::FILE* framesFile = nullptr;
+  struct ScratchGuard {
+    std::FILE*& f;
+    const std::string& path;
+    ~ScratchGuard() {
+      if (f) std::fclose(f);
+      if (!path.empty()) std::remove(path.c_str());
+    }
+  } scratchGuard{framesFile, framesScratch};
+  if (writing && !opt.keepFrames) {
+    framesFile = std::fopen(framesScratch.c_str(), "w+b");
+    if (!framesFile) return makeError("cannot write " + framesScratch + ": " + std::strerror(errno));
+  }
+  bool firstFrameWritten = false;
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames);
@@ -235,7 +259,16 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       HW_TRY(writePng(opt.outDir + "/holes/" + frameName(i),
                       maskToImage(frame.holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{0, 0, 0, 255})));
     }
-    framesJson.push_back(std::move(fj));
+    if (!fj["is_keyframe"].get<bool>() && fj["reference_ms"].is_number())
+      speedup.push_back(fj["reference_ms"].get<double>() / fj["ms"]["total"].get<double>());
+    if (opt.keepFrames) {
+      framesJson.push_back(std::move(fj));
+    } else if (framesFile) {
+      const std::string text = (firstFrameWritten ? ",\n" : "\n") + fj.dump();
+      firstFrameWritten = true;
+      if (std::fwrite(text.data(), 1, text.size(), framesFile) != text.size())
+        return makeError("cannot write " + framesScratch + ": " + std::strerror(errno));
+    }
     std::swap(previous, frame);
     havePrevious = true;
     // Drop GPU copies of keyframes no later frame can use.
@@ -243,11 +276,6 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       it = it->first < k0 ? sources.erase(it) : std::next(it);
     progress.update(i + 1);
   }
-
-  std::vector<double> speedup;
-  for (const json& f : framesJson)
-    if (!f["is_keyframe"].get<bool>() && f["reference_ms"].is_number())
-      speedup.push_back(f["reference_ms"].get<double>() / f["ms"]["total"].get<double>());
 
   json summary;
   summary["scene"] = {{"name", sceneLabel}, {"triangles", scene.triangleCount()}};
@@ -290,7 +318,22 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       HW_TRY(writePng(opt.outDir + "/strip_" + std::to_string(stripInfo[s]["frame"].get<int>()) +
                           ".png",
                       strips[s]));
-    HW_TRY(writeFileAtomic(opt.outDir + "/report.json", result.report.dump(1)));
+    if (opt.keepFrames) {
+      HW_TRY(writeFileAtomic(opt.outDir + "/report.json", result.report.dump(1)));
+    } else {
+      // Same document: the streamed frames, then the summary.
+      std::string text = "{\n\"frames\": [";
+      std::fflush(framesFile);
+      const long size = std::ftell(framesFile);
+      std::rewind(framesFile);
+      const std::size_t start = text.size();
+      text.resize(start + static_cast<std::size_t>(size > 0 ? size : 0));
+      if (size > 0 && std::fread(text.data() + start, 1, static_cast<std::size_t>(size), framesFile) !=
+                          static_cast<std::size_t>(size))
+        return makeError("cannot read back " + framesScratch);
+      text += "\n],\n\"summary\": " + summary.dump(1) + "\n}\n";
+      HW_TRY(writeFileAtomic(opt.outDir + "/report.json", text));
+    }
   }
   return result;
 }

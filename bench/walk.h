@@ -24,7 +24,7 @@ struct WalkOptions {
   keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
   keyframe::MeshMethod mesh = keyframe::MeshMethod::Lod;  // or a baseline (sweep)
   int tileSize = 8;                             // pixels, MeshMethod::UniformTiles
-  DepthMode depthMode = DepthMode::Fixed24;     // keyframe depth buffer
+  DepthMode depthMode = kDefaultDepthMode;     // keyframe depth buffer
   gapfill::ComposeOptions compose;              // paper's overlay or depth merge
   warp::WarpOptions warp;                       // texcoords, sky backdrop
   bool reference = true;                        // render and compare the geometry frame
@@ -34,6 +34,10 @@ struct WalkOptions {
   bool saveFrames = false;  // frames/NNNN.png and holes/NNNN.png
   int strips = 4;           // side-by-side strips of this many in-between frames
   bool progress = true;     // a progress line on stderr
+  // Keep every frame's entry in WalkResult::report["frames"]. Off: entries go
+  // only to report.json (streamed through a scratch file; flat memory on long
+  // walks) and report["frames"] is empty.
+  bool keepFrames = true;
   std::string glRenderer, glVersion;  // recorded in the report's machine block
 };
 

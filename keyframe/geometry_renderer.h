@@ -15,7 +15,7 @@
 namespace hw::keyframe {
 
 struct RenderOptions {
-  DepthMode depthMode = DepthMode::Fixed24;  // the paper's 24-bit z-buffer
+  DepthMode depthMode = kDefaultDepthMode;  // fixed24 = the paper's 24-bit z-buffer
   bool frustumCulling = true;
 };
 

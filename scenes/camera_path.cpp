@@ -24,12 +24,15 @@ constexpr double kMinSinViewUp = 1e-6;
 // keeps frame spacing within ~0.1% of uniform for ordinary paths.
 constexpr int kSamplesPerSegment = 128;
 
+// The value a user wrote, briefly. Arrays and objects are summarised rather
+// than dumped: dump() recurses, and a file of deeply nested arrays would
+// overflow the stack here.
 std::string describe(const Json& j) {
+  if (j.is_array()) return "an array of " + std::to_string(j.size()) + " elements";
+  if (j.is_object()) return "an object with " + std::to_string(j.size()) + " keys";
   std::string s = j.dump();
   if (s.size() > 60) s = s.substr(0, 57) + "...";
   if (j.is_string()) return "string " + s;
-  if (j.is_array()) return "array " + s;
-  if (j.is_object()) return "object " + s;
   if (j.is_boolean()) return "boolean " + s;
   if (j.is_null()) return "null";
   return s;

@@ -105,6 +105,11 @@ const std::vector<std::string>& scenePackages() {
   return kPackages;
 }
 
+const std::vector<std::string>& outdoorScenePackages() {
+  static const std::vector<std::string> kPackages = {"morse-simulator-data", "torcs-data"};
+  return kPackages;
+}
+
 std::string defaultSceneCacheDir() {
   if (const char* c = std::getenv("HYBRIDWALK_CACHE"); c && *c) return c;
   if (const char* h = std::getenv("HOME"); h && *h)
@@ -112,13 +117,15 @@ std::string defaultSceneCacheDir() {
   return "hybridwalk-scenes";
 }
 
-Status fetchScenePackages(const std::string& cacheDir, bool progress) {
+Status fetchScenePackages(const std::string& cacheDir, bool progress, bool outdoor) {
   std::error_code absEc;
   const fs::path base = fs::absolute(cacheDir, absEc);  // children run in other folders
   if (absEc) return makeError("cache folder '" + cacheDir + "': " + absEc.message());
   const fs::path debs = base / "debs", root = base / "root", stamps = root / ".unpacked";
   for (const fs::path& d : {debs, root, stamps}) HW_TRY(ensureWritableDir(d.string()));
-  const auto& packages = scenePackages();
+  std::vector<std::string> packages = scenePackages();
+  if (outdoor)
+    packages.insert(packages.end(), outdoorScenePackages().begin(), outdoorScenePackages().end());
   for (std::size_t i = 0; i < packages.size(); ++i) {
     const std::string& pkg = packages[i];
     char counter[48];

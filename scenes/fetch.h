@@ -12,6 +12,12 @@ namespace hw::scenes {
 // The Debian packages holding OpenArena's maps and textures.
 const std::vector<std::string>& scenePackages();
 
+// The outdoor scenes' packages, fetched only on request (torcs-data alone is
+// a 333 MB download, 534 MB unpacked): morse-simulator-data (82 MB; MORSE
+// environments, .blend) and torcs-data (TORCS tracks, .acc). See
+// scenes/outdoor_scenes.h.
+const std::vector<std::string>& outdoorScenePackages();
+
 // $HYBRIDWALK_CACHE, else $HOME/.cache/hybridwalk/scenes (else ./hybridwalk-scenes).
 std::string defaultSceneCacheDir();
 
@@ -22,7 +28,8 @@ std::string defaultSceneCacheDir();
 // on stderr, plus apt-get's own output. Errors name the package and quote
 // apt-get's or dpkg-deb's message (and suggest `apt-get update` when apt-get
 // cannot find the package).
-Status fetchScenePackages(const std::string& cacheDir, bool progress);
+// With `outdoor`, outdoorScenePackages() are fetched too, after them.
+Status fetchScenePackages(const std::string& cacheDir, bool progress, bool outdoor = false);
 
 // All *.pk3 files under `dir` (recursive, symlinks followed), sorted by path
 // as the game loads them: alphabetically, later files overriding earlier

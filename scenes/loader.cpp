@@ -26,6 +26,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
 
@@ -452,7 +453,7 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
                            aiProcess_PreTransformVertices | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_FlipUVs |
-                           aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
+                           aiProcess_ValidateDataStructure;
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai) {
       const std::string why = importer.GetErrorString();
@@ -491,6 +492,13 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
       for (unsigned v = 0; v < m.mNumVertices; ++v) {
         Vertex& out = mesh.vertices[v];
         out.position = toYUp(m.mVertices[v]);
+        // Assimp's FindInvalidData would drop such a mesh silently ("No meshes
+        // remaining"); say what is wrong instead.
+        if (!std::isfinite(out.position.x) || !std::isfinite(out.position.y) ||
+            !std::isfinite(out.position.z))
+          return makeError(path + ": mesh '" + std::string(m.mName.C_Str()) + "' vertex " +
+                           std::to_string(v) + " has a non-finite position (expected finite "
+                           "coordinates, got NaN or Inf)");
         if (m.mNormals) {
           glm::vec3 n = toYUp(m.mNormals[v]);
           const float len = glm::length(n);
@@ -540,6 +548,7 @@ Result<Q3Map> loadQ3Spec(const std::string& mapName) {
 
 Result<Scene> loadScene(const std::string& spec) {
   std::error_code ec;
+  if (auto outdoor = loadOutdoorSpec(spec)) return std::move(*outdoor);  // .acc, .blend, torcs:, morse:
   if (!spec.empty() && fs::exists(spec, ec)) return loadSceneFile(spec);
   if (auto q3 = q3MapName(spec)) {
     auto map = loadQ3Spec(*q3);
@@ -558,6 +567,7 @@ Result<Scene> loadScene(const std::string& spec) {
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
   std::error_code ec;
+  if (auto outdoor = outdoorDefaultPath(spec)) return std::move(*outdoor);
   if (auto q3 = q3MapName(spec); q3 && !fs::exists(spec, ec)) {
     auto map = loadQ3Spec(*q3);
     if (!map) return map.error();

@@ -11,7 +11,8 @@ bash scripts/setup.sh
 bash scripts/build.sh release -DHW_WERROR=ON
 # Real scenes for the OpenArena test: apt-get download into the user cache
 # (idempotent; nothing installed system-wide). Stale package lists: update once.
-build/bin/hybridwalk scenes fetch --quiet || { apt-get update -qq && build/bin/hybridwalk scenes fetch --quiet; }
+build/bin/hybridwalk scenes fetch --outdoor --quiet ||
+  { apt-get update -qq && build/bin/hybridwalk scenes fetch --outdoor --quiet; }
 # llvmpipe threads: 2 gave the steadiest figures here (NOTES-GL.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 log=$(mktemp)

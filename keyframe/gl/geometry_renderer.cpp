@@ -197,6 +197,9 @@ class GlGeometryRenderer final : public GeometryRenderer {
 
  private:
   Status ensureFbo(int w, int h) {
+    if (w < 1 || h < 1)
+      return makeError("camera image size " + std::to_string(w) + "x" + std::to_string(h) +
+                       ": expected at least 1x1");
     if (fbo_.width() == w && fbo_.height() == h) return {};
     auto fb = gl::Framebuffer::create(w, h, options_.depthMode);
     if (!fb) return fb.error();

@@ -4,6 +4,8 @@
 // plane at one ratio and angle.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -133,19 +135,20 @@ TEST_F(DepthPrecisionTest, RejectsBadSpecs) {
   EXPECT_FALSE(bench::measureDepthPrecision(spec).ok());
 }
 
-// The full report, for people: HW_STRESS_OUT=DIR (HW_STRESS_QUICK=1 for the
-// quick grid) and --gtest_also_run_disabled_tests.
-TEST_F(DepthPrecisionTest, DISABLED_WritesTheReport) {
-  const char* out = std::getenv("HW_STRESS_OUT");
-  ASSERT_NE(out, nullptr) << "set HW_STRESS_OUT";
+// The whole quick report (what `hybridwalk stress --quick` writes): no case
+// fails and the files a reader opens exist.
+TEST_F(DepthPrecisionTest, WritesTheQuickReport) {
   bench::StressOptions o;
-  o.outDir = out;
-  o.quick = std::getenv("HW_STRESS_QUICK") != nullptr;
+  o.outDir = ::testing::TempDir() + "hw_stress_quick";
+  o.quick = true;
+  o.progress = false;
   o.glRenderer = test::glContext()->renderer();
   o.glVersion = test::glContext()->version();
   auto r = bench::runStress(o);
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_EQ((*r)["cases_failed"].get<int>(), 0);
+  for (const char* f : {"stress.json", "index.html", "depth_precision.csv", "cases.csv"})
+    EXPECT_TRUE(std::filesystem::exists(o.outDir + "/" + f)) << f;
 }
 
 }  // namespace

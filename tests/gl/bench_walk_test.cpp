@@ -21,7 +21,7 @@ namespace {
 void addBox(scenes::Mesh& m, glm::vec3 lo, glm::vec3 hi) {
   const glm::vec3 n[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   for (const glm::vec3& nn : n) {
-    // Face on the side nn points to; tangents a, b with a × b = nn.
+    // Face on the side nn points to, spanned by tangents a and b.
     const glm::vec3 a = std::abs(nn.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     const glm::vec3 b = glm::cross(nn, a);
     const glm::vec3 c = 0.5f * (lo + hi), e = 0.5f * (hi - lo);
@@ -30,8 +30,9 @@ void addBox(scenes::Mesh& m, glm::vec3 lo, glm::vec3 hi) {
     const auto base = static_cast<std::uint32_t>(m.vertices.size());
     for (glm::vec3 p : {fc - ea - eb, fc + ea - eb, fc + ea + eb, fc - ea + eb})
       m.vertices.push_back(scenes::Vertex{p, nn, {}});
-    // Counter-clockwise seen from outside: (−a−b) → (−a+b) → (a+b) since b×a = −nn.
-    m.indices.insert(m.indices.end(), {base, base + 3, base + 2, base, base + 2, base + 1});
+    // b = nn × a, so a × b = nn: (−a−b) → (a−b) → (a+b) is counter-clockwise
+    // seen from outside (from +nn).
+    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   }
 }
 

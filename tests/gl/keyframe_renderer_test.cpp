@@ -41,7 +41,7 @@ class RendererTest : public test::GlTest {};
 TEST_F(RendererTest, PlaneDepthMatchesEquation2In24BitMode) {
   const double dist = 7.3;
   auto scene = wallScene(dist, 100.0f, 8);
-  auto r = keyframe::GeometryRenderer::create(scene);
+  auto r = keyframe::GeometryRenderer::create(scene, {DepthMode::Fixed24, true});
   ASSERT_TRUE(r.ok()) << r.error().message;
   Camera cam = Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, glm::radians(60.0), 64, 48, 0.5,
                               200.0);
@@ -76,7 +76,7 @@ TEST_F(RendererTest, ObliquePlaneDepthMatchesEquation2) {
   m.indices = {0, 3, 2, 0, 2, 1};
   s.meshes.push_back(m);
   s.computeBounds();
-  auto r = keyframe::GeometryRenderer::create(s);
+  auto r = keyframe::GeometryRenderer::create(s, {DepthMode::Fixed24, true});
   ASSERT_TRUE(r.ok()) << r.error().message;
   Camera cam = Camera::lookAt({0, 0, 0}, {0, -std::tan(glm::radians(30.0)), -1}, {0, 1, 0},
                               glm::radians(50.0), 80, 60, 0.1, 1000.0);

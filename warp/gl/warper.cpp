@@ -160,6 +160,9 @@ class GlWarper final : public Warper {
   Status warp(const WarpSource& source, const Camera& target, Layer& out,
               WarpStats* stats) override {
     const auto& src = static_cast<const GlWarpSource&>(source);
+    if (target.width < 1 || target.height < 1)
+      return makeError("warp: target image size " + std::to_string(target.width) + "x" +
+                       std::to_string(target.height) + ": expected at least 1x1");
     if (fbo_.width() != target.width || fbo_.height() != target.height) {
       auto fb = gl::Framebuffer::create(target.width, target.height, DepthMode::Fixed24,
                                         options_.writeEyeZ);

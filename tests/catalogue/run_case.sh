@@ -1,0 +1,211 @@
+#!/usr/bin/env bash
+# Runs one row of the bad-input catalogue (tests/catalogue/cases.tsv,
+# docs/bad-input.md): writes the malformed fixtures into a fresh temp dir,
+# runs the row's command under a timeout and checks that
+#   - the exit status is the row's (1 = runtime error, 2 = usage error;
+#     `1|2` where either would do):
+#     never 0, never >= 128 (a signal, i.e. a crash), never 124 (a hang);
+#   - stderr matches the row's regex (case-insensitive ERE), which names
+#     what is wrong and where (file, key, option);
+#   - the output dir {out} is left clean: for `empty` rows it does not exist
+#     or holds nothing (not even an empty folder); for `no-partial` rows (the
+#     failure comes after work started) it holds no *.tmp-* file and no
+#     report.json/render.json that would make a partial run look complete.
+# Usage: run_case.sh ID HYBRIDWALK SOURCE_DIR     (ID `all` runs every row)
+set -u
+id=${1:?usage: run_case.sh ID HYBRIDWALK SOURCE_DIR}
+hw=${2:?usage: run_case.sh ID HYBRIDWALK SOURCE_DIR}
+src=${3:?usage: run_case.sh ID HYBRIDWALK SOURCE_DIR}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+cases="$here/cases.tsv"
+timeout_s=${HW_CATALOGUE_TIMEOUT:-120}
+
+if [ "$id" = all ]; then
+  failed=0 n=0
+  for i in $(awk -F'\t' '/^[a-z]/ { print $1 }' "$cases"); do
+    n=$((n + 1))
+    if out=$(bash "${BASH_SOURCE[0]}" "$i" "$hw" "$src" 2>&1); then
+      echo "ok   $i"
+    else
+      echo "FAIL $i"; echo "$out" | sed 's/^/     /'; failed=$((failed + 1))
+    fi
+  done
+  echo "$((n - failed)) of $n rows pass"
+  [ $failed -eq 0 ]
+  exit
+fi
+
+row=$(awk -F'\t' -v id="$id" '$1 == id' "$cases")
+[ -n "$row" ] || { echo "run_case.sh: no row '$id' in $cases"; exit 1; }
+IFS=$'\t' read -r _ want_exit clean setup description command regex <<<"$row"
+
+# Rows that need a tiny or read-only filesystem at {out} mount a tmpfs there.
+# Root can do that directly; anyone else gets a private mount namespace in
+# which they are root (unshare -rm), so the mount never leaks out.
+if [ "$setup" != - ] && [ "$(id -u)" != 0 ] && [ -z "${HW_CATALOGUE_USERNS:-}" ]; then
+  if unshare --map-root-user --mount true 2>/dev/null; then
+    HW_CATALOGUE_USERNS=1 exec unshare --map-root-user --mount bash "${BASH_SOURCE[0]}" "$@"
+  fi
+  echo "FAIL $id: needs a tmpfs mount ($setup) but this user is not root and" \
+    "'unshare --map-root-user --mount' is not allowed here"
+  exit 1
+fi
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/hw-catalogue.XXXXXX")
+out="$tmp/out"
+cleanup() {
+  mountpoint -q "$out" 2>/dev/null && umount "$out"
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+# ---------------------------------------------------------------- fixtures --
+# Scene files. Deterministic: no /dev/urandom, so a failure reproduces.
+: >"$tmp/empty.obj"
+printf 'v 0 0 0\nv 1 0\nf 1 2 3 4 5\n' >"$tmp/trunc.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2' >"$tmp/trunc_mid.obj"
+awk 'BEGIN { srand(7); for (i = 0; i < 4000; i++) printf "%c", 1 + int(rand() * 254) }' \
+  >"$tmp/garbage.obj"
+printf 'hello' >"$tmp/scene.xyz123"
+mkdir "$tmp/dir.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n' >"$tmp/face_oob.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n' >"$tmp/face_neg.obj"
+printf 'v nan 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n' >"$tmp/nan_vertex.obj"
+printf 'ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' \
+  >"$tmp/huge_vertex_count.ply"
+{
+  printf 'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 2000000000\nproperty list uchar int vertex_indices\nend_header\n'
+  printf '\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0'
+  printf '\3\0\0\0\0\1\0\0\0\2\0\0\0'
+} >"$tmp/huge_face_count.ply"
+printf 'PK\3\4 this is not a PLY file at all\n' >"$tmp/not_ply.ply"
+printf '{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 7}}]}]' \
+  >"$tmp/broken.gltf"
+
+# pk3/BSP: each folder is one $HYBRIDWALK_PK3_DIR; the scene cache
+# ($HYBRIDWALK_CACHE) is an empty folder so only the broken pk3 is seen.
+mkdir -p "$tmp/cache" "$tmp/pk3_garbage" "$tmp/pk3_trunc" "$tmp/pk3_other" \
+  "$tmp/pk3_badmagic" "$tmp/pk3_badlump" "$tmp/pk3_deflate"
+head -c 5000 "$tmp/garbage.obj" >"$tmp/pk3_garbage/broken.pk3"
+python3 - "$tmp" <<'EOF' || { echo "FAIL $id: python3 is needed to write the pk3 fixtures"; exit 1; }
+import struct, sys, zipfile, zlib
+t = sys.argv[1]
+def pk3(path, name, data, method=zipfile.ZIP_STORED):
+    with zipfile.ZipFile(path, 'w', method) as z:
+        z.writestr(name, data)
+# A BSP header whose lumps all point past the end of the file.
+bad_lumps = b'IBSP' + struct.pack('<i', 46) + b''.join(
+    struct.pack('<ii', 1000000 * (i + 1), 50000) for i in range(17))
+pk3(t + '/pk3_other/maps.pk3', 'maps/other.bsp', bad_lumps)
+pk3(t + '/pk3_badmagic/maps.pk3', 'maps/bad.bsp', b'garbage' * 100)
+pk3(t + '/pk3_badlump/maps.pk3', 'maps/bad.bsp', bad_lumps)
+# Truncated download: a zip cut in half (its central directory is lost).
+pk3(t + '/whole.pk3', 'maps/cut.bsp', bad_lumps + bytes(range(256)) * 40)
+whole = open(t + '/whole.pk3', 'rb').read()
+open(t + '/pk3_trunc/cut.pk3', 'wb').write(whole[: len(whole) // 2])
+# Intact zip directory, damaged deflate stream inside the member.
+pk3(t + '/pk3_deflate/maps.pk3', 'maps/crc.bsp', bad_lumps + b'x' * 5000, zipfile.ZIP_DEFLATED)
+d = bytearray(open(t + '/pk3_deflate/maps.pk3', 'rb').read())
+for i in range(60, 90):
+    d[i] ^= 0xFF
+open(t + '/pk3_deflate/maps.pk3', 'wb').write(bytes(d))
+EOF
+
+# Camera paths: a valid base with one thing wrong each.
+keys='"keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, -5]}, {"eye": [1, 1.7, -1], "look_at": [1, 1.7, -6]}]'
+pj() { printf '%s' "$2" >"$tmp/$1.json"; }
+pj path_not_json '{"frames": 10, '
+: >"$tmp/path_empty.json"
+mkdir "$tmp/path_dir.json"
+pj path_top_array '[1, 2, 3]'
+pj path_no_keys '{"frames": 10}'
+pj path_unknown_key "{$keys, \"frames\": 10, \"colour\": 3}"
+pj path_wrong_type "{$keys, \"frames\": \"ten\"}"
+pj path_keys_object '{"keys": {"eye": [0, 1.7, 0], "look_at": [0, 1.7, -5]}, "frames": 10}'
+pj path_nan_string "{$keys, \"frames\": 10, \"near\": \"NaN\"}"
+pj path_inf_string "{$keys, \"frames\": 10, \"far\": \"Infinity\"}"
+pj path_inf_bare "{$keys, \"frames\": 10, \"far\": Infinity}"
+pj path_neg_frames "{$keys, \"frames\": -5}"
+pj path_zero_frames "{$keys, \"frames\": 0}"
+pj path_frac_frames "{$keys, \"frames\": 2.5}"
+pj path_huge_frames "{$keys, \"frames\": 99999999999}"
+pj path_ke_zero "{$keys, \"frames\": 10, \"keyframe_every\": 0}"
+pj path_near_zero "{$keys, \"frames\": 10, \"near\": 0}"
+pj path_near_neg "{$keys, \"frames\": 10, \"near\": -1}"
+pj path_near_ge_far "{$keys, \"frames\": 10, \"near\": 10, \"far\": 5}"
+pj path_fov_0 "{$keys, \"frames\": 10, \"fov_y_deg\": 0}"
+pj path_fov_180 "{$keys, \"frames\": 10, \"fov_y_deg\": 180}"
+pj path_fov_neg "{$keys, \"frames\": 10, \"fov_y_deg\": -5}"
+pj path_width_0 "{$keys, \"frames\": 10, \"width\": 0}"
+pj path_width_huge "{$keys, \"frames\": 10, \"width\": 100000}"
+pj path_up_zero "{$keys, \"frames\": 10, \"up\": [0, 0, 0]}"
+pj path_eye_is_look_at '{"keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, 0]}], "frames": 10}'
+pj path_view_parallel_up '{"keys": [{"eye": [0, 1.7, 0], "look_at": [0, 5, 0]}], "frames": 10}'
+pj path_empty_keys '{"keys": [], "frames": 10}'
+pj path_eye_2d '{"keys": [{"eye": [0, 1.7], "look_at": [0, 1.7, -5]}], "frames": 10}'
+pj path_key_no_look_at '{"keys": [{"eye": [0, 1.7, 0]}], "frames": 10}'
+pj path_key_unknown '{"keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, -5], "roll": 30}], "frames": 10}'
+pj path_trailing "{$keys, \"frames\": 10} trailing"
+# 10 MiB of nested arrays: [[[[...]]]] 5 Mi deep. Only written when used.
+if [[ $command == *path_nested.json* ]]; then
+  awk 'BEGIN { n = 5 * 1024 * 1024; s = "["; while (length(s) < n) s = s s;
+               s = substr(s, 1, n); t = s; gsub(/\[/, "]", t); printf "%s%s", s, t }' \
+    >"$tmp/path_nested.json"
+fi
+
+touch "$tmp/a_file"
+
+case $setup in
+  -) ;;
+  tmpfs:*) mkdir "$out" && mount -t tmpfs -o "size=${setup#tmpfs:}" hwcat "$out" ||
+    { echo "FAIL $id: cannot mount a ${setup#tmpfs:} tmpfs at $out"; exit 1; } ;;
+  tmpfs-ro) mkdir "$out" && mount -t tmpfs -o ro,size=64k hwcat "$out" ||
+    { echo "FAIL $id: cannot mount a read-only tmpfs at $out"; exit 1; } ;;
+  *) echo "FAIL $id: unknown setup '$setup'"; exit 1 ;;
+esac
+
+# ------------------------------------------------------------------- run ----
+command=${command//\{hw\}/$hw}
+command=${command//\{tmp\}/$tmp}
+command=${command//\{out\}/$out}
+command=${command//\{src\}/$src}
+regex=${regex//\{out\}/$out}
+regex=${regex//\{tmp\}/$tmp}
+# Runs from the fixture dir with stdin closed; HW_GL_FAIL is cleared so only
+# the rows that set it see a failing context. The scene cache and DISPLAY are
+# left as they are unless a row overrides them with env.
+(cd "$tmp" && exec env -u HW_GL_FAIL timeout -k 10 "$timeout_s" bash -c "$command") \
+  >"$tmp/stdout" 2>"$tmp/stderr" </dev/null
+code=$?
+
+ok=1
+problem() { echo "FAIL $id: $*"; ok=0; }
+if [ $code -eq 124 ] || [ $code -eq 137 ]; then
+  problem "no answer within ${timeout_s} s (a hang)"
+elif [ $code -ge 128 ]; then
+  problem "crashed: exit $code (signal $((code - 128)))"
+elif [ $code -eq 0 ]; then
+  problem "exit 0: the bad input was accepted"
+elif ! [[ $code =~ ^($want_exit)$ ]]; then
+  problem "exit $code, expected $want_exit"
+fi
+if ! grep -qiE -- "$regex" "$tmp/stderr"; then
+  problem "stderr does not match /$regex/"
+fi
+leftover=
+case $clean in
+  empty) [ -e "$out" ] && leftover=$(cd "$out" && find . -mindepth 1 | sort) ;;
+  no-partial) [ -e "$out" ] && leftover=$(cd "$out" && find . \( -name '*.tmp-*' -o \
+    -name report.json -o -name render.json \) | sort) ;;
+  *) problem "unknown clean policy '$clean'" ;;
+esac
+[ -n "$leftover" ] && problem "left in the output dir ($clean): $(echo $leftover)"
+
+if [ $ok -eq 0 ]; then
+  echo "  row: $description"
+  echo "  command: $command"
+  echo "  exit: $code"
+  echo "  stderr:"; head -c 2000 "$tmp/stderr" | sed 's/^/    /'
+  exit 1
+fi
+echo "ok $id: exit $code, $(grep -m1 -iE -- "$regex" "$tmp/stderr" | head -c 300)"
