@@ -1,4 +1,5 @@
 #include "bench/export.h"
+#include "bench/progress.h"
 
 #include <stb_image_write.h>  // implementation compiled in core/file_io.cpp
 
@@ -48,25 +49,6 @@ std::string numbered(const char* prefix, int frame) {
   return buf;
 }
 
-class Progress {
- public:
-  Progress(bool on, int total) : on_(on), total_(total) {}
-  void update(int done) {
-    if (!on_ || (sinceLast_.ms() < 1000 && done < total_)) return;
-    sinceLast_.restart();
-    const double el = all_.ms() / 1000.0;
-    const double eta = done > 0 ? el / done * (total_ - done) : 0;
-    std::fprintf(stderr, "\rexport: frame %d/%d (%3.0f%%) elapsed %.0f s, ETA %.0f s   ", done,
-                 total_, 100.0 * done / total_, el, eta);
-    if (done >= total_) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-
- private:
-  bool on_;
-  int total_;
-  Stopwatch all_, sinceLast_;
-};
 
 }  // namespace
 
@@ -115,7 +97,7 @@ Status exportKeyframes(const scenes::Scene& scene, const scenes::CameraPath& pat
   json keyframes = json::array(), inBetween = json::array();
   keyframe::Keyframe kf;
   Image<Rgba8> colour;
-  Progress progress(options.progress, total);
+  Progress progress(options.progress, total, "export");
   int done = 0;
   for (int i = 0; i < frames; ++i) {
     const bool isKey = schedule.isKeyframe(i);

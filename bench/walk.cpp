@@ -1,4 +1,5 @@
 #include "bench/walk.h"
+#include "bench/progress.h"
 
 #include <unistd.h>
 
@@ -39,25 +40,6 @@ json stats(const std::vector<double>& v) {
           {"count", v.size()}};
 }
 
-class Progress {
- public:
-  Progress(bool on, int total) : on_(on), total_(total) {}
-  void update(int done) {
-    if (!on_ || (sinceLast_.ms() < 1000 && done < total_)) return;
-    sinceLast_.restart();
-    const double el = all_.ms() / 1000.0;
-    const double eta = done > 0 ? el / done * (total_ - done) : 0;
-    std::fprintf(stderr, "\rwalk: frame %d/%d (%3.0f%%) elapsed %.0f s, ETA %.0f s   ", done,
-                 total_, 100.0 * done / total_, el, eta);
-    if (done >= total_) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-
- private:
-  bool on_;
-  int total_;
-  Stopwatch all_, sinceLast_;
-};
 
 }  // namespace
 
@@ -118,7 +100,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   bool firstFrameWritten = false;
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
-  Progress progress(opt.progress, frames);
+  Progress progress(opt.progress, frames, "walk");
 
   // Strip frames: spread over the in-between frames.
   std::vector<int> inBetween;
