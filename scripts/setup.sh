@@ -7,7 +7,7 @@ pkgs=(
   libosmesa6-dev libgl-dev mesa-common-dev libglfw3-dev libglm-dev libassimp-dev
   libstb-dev libcli11-dev nlohmann-json3-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  xvfb xauth clang libclang-rt-14-dev
+  xvfb xauth clang libclang-rt-14-dev chromium
 )
 missing=()
 for p in "${pkgs[@]}"; do
