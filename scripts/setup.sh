@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hybridwalk needs (only those missing).
-# Run as root on Debian 12. Idempotent.
+# Run as root on Debian 12. Idempotent. `--test` adds what the test suite
+# needs beyond building and running: Xvfb (windowed tests), clang (libFuzzer)
+# and Chromium (the report's headless-browser check).
 set -euo pipefail
 pkgs=(
   build-essential cmake ninja-build pkg-config git
   libosmesa6-dev libgl-dev mesa-common-dev libglfw3-dev libglm-dev libassimp-dev
   libstb-dev libcli11-dev nlohmann-json3-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  xvfb xauth clang libclang-rt-14-dev chromium
 )
+if [ "${1:-}" = "--test" ]; then
+  pkgs+=(xvfb xauth clang libclang-rt-14-dev chromium)
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -7,7 +7,7 @@
 # HW_TEST_QUICK=1 runs step 1 only. HW_FUZZ_SECONDS sets step 3's time per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh --test
 bash scripts/build.sh release -DHW_WERROR=ON
 # Real scenes for the OpenArena test: apt-get download into the user cache
 # (idempotent; nothing installed system-wide). Stale package lists: update once.
