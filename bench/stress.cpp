@@ -80,25 +80,6 @@ void addGroundGrid(scenes::Mesh& m, double halfSize, int cells, double texWorld)
                                          at(i + 1, j + 1), at(i + 1, j)});
 }
 
-// Axis-aligned box, outward normals, counter-clockwise seen from outside (so
-// one-sided faces are culled from inside).
-void addBox(scenes::Mesh& m, glm::vec3 lo, glm::vec3 hi) {
-  const glm::vec3 n[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (const glm::vec3& nn : n) {
-    const glm::vec3 a = std::abs(nn.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-    const glm::vec3 b = glm::cross(nn, a);
-    const glm::vec3 c = 0.5f * (lo + hi), e = 0.5f * (hi - lo);
-    const glm::vec3 fc = c + nn * glm::dot(glm::abs(nn), e);
-    const glm::vec3 ea = a * glm::dot(glm::abs(a), e), eb = b * glm::dot(glm::abs(b), e);
-    const auto base = static_cast<std::uint32_t>(m.vertices.size());
-    const glm::vec3 corners[4] = {fc - ea - eb, fc + ea - eb, fc + ea + eb, fc - ea + eb};
-    const glm::vec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    for (int k = 0; k < 4; ++k) m.vertices.push_back(scenes::Vertex{corners[k], nn, uvs[k] * 2.0f});
-    // (−a−b) → (a−b) → (a+b) turns counter-clockwise about nn = a × b.
-    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-  }
-}
-
 scenes::Scene planeScene(double farPlane, double texWorld) {
   scenes::Scene s;
   s.name = "stress-plane";
@@ -163,14 +144,14 @@ scenes::Scene caseScene(bool ground, bool redWall, bool blueBox, bool greenBoxTw
     scenes::Mesh m;
     m.name = "blue-box";
     m.material = 2;
-    addBox(m, {-1, 0, -6}, {1, 2, -4});
+    scenes::appendBox(m, {-1, 0, -6}, {1, 2, -4});
     s.meshes.push_back(std::move(m));
   }
   if (greenBoxTwoSided) {
     scenes::Mesh m;
     m.name = "green-box";
     m.material = 3;
-    addBox(m, {2, 0, -7}, {5, 3, -4});
+    scenes::appendBox(m, {2, 0, -7}, {5, 3, -4});
     s.meshes.push_back(std::move(m));
   }
   s.computeBounds();

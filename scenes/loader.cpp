@@ -37,14 +37,6 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kDefaultTargetTriangles = 100'000;
 
-Image<Rgba8> placeholderTexture() {
-  Image<Rgba8> img(64, 64);
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x)
-      img(x, y) = ((x / 8 + y / 8) % 2) ? Rgba8{255, 0, 255, 255} : Rgba8{255, 255, 255, 255};
-  return img;
-}
-
 Result<Image<Rgba8>> decodeImage(const unsigned char* bytes, std::size_t size,
                                  const std::string& what) {
   if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -135,7 +127,7 @@ struct TextureCache {
       scene->warnings.push_back(
           (img.ok() ? file + ": texture '" + ref + "' is empty" : img.error().message) +
           "; using a placeholder");
-      t.image = placeholderTexture();
+      t.image = missingTexture();
     }
     const int index = static_cast<int>(scene->textures.size());
     scene->textures.push_back(std::move(t));

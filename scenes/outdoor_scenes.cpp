@@ -43,14 +43,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-Image<Rgba8> checkerTexture() {
-  Image<Rgba8> img(64, 64);
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x)
-      img(x, y) = ((x / 8 + y / 8) % 2) ? Rgba8{255, 0, 255, 255} : Rgba8{255, 255, 255, 255};
-  return img;
-}
-
 bool hasCutout(const Image<Rgba8>& img) {
   for (const Rgba8& p : img.pixels())
     if (p.a < 128) return true;
@@ -302,7 +294,7 @@ class AcParser {
       out_.scene.warnings.push_back(
           (img.ok() ? source_ + ": texture '" + name + "' is empty" : img.error().message) +
           "; using a checker");
-      t.image = checkerTexture();
+      t.image = missingTexture();
     }
     const int i = static_cast<int>(out_.scene.textures.size());
     out_.scene.textures.push_back(std::move(t));

@@ -312,14 +312,6 @@ const char* skipReason(const std::string& shaderLower, int surfaceFlags, int con
   return nullptr;
 }
 
-Image<Rgba8> placeholderTexture() {
-  Image<Rgba8> img(64, 64);
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x)
-      img(x, y) = ((x / 8 + y / 8) % 2) ? Rgba8{255, 0, 255, 255} : Rgba8{255, 255, 255, 255};
-  return img;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -450,7 +442,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
         scene.warnings.push_back(source + ": shader '" + sh.name +
                                  "': " + (t.error.empty() ? std::string("no texture") : t.error) +
                                  "; using a placeholder");
-        tex.image = placeholderTexture();
+        tex.image = missingTexture();
         m.alphaTest = false;
       } else {
         tex.image = std::move(t.image);

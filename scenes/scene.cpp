@@ -1,5 +1,6 @@
 #include "scenes/scene.h"
 
+#include <cmath>
 #include <limits>
 
 namespace hw::scenes {
@@ -33,6 +34,31 @@ void Scene::computeBounds() {
   }
   boundsMin = any ? lo : glm::vec3(0.0f);
   boundsMax = any ? hi : glm::vec3(0.0f);
+}
+
+Image<Rgba8> missingTexture() {
+  Image<Rgba8> img(64, 64);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      img(x, y) = ((x / 8 + y / 8) % 2) ? Rgba8{255, 0, 255, 255} : Rgba8{255, 255, 255, 255};
+  return img;
+}
+
+void appendBox(Mesh& m, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const glm::vec3 c = 0.5f * (lo + hi), e = 0.5f * (hi - lo);
+  for (const glm::vec3& n : normals) {
+    const glm::vec3 a = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    const glm::vec3 b = glm::cross(n, a);
+    const glm::vec3 fc = c + n * glm::dot(glm::abs(n), e);
+    const glm::vec3 ea = a * glm::dot(glm::abs(a), e), eb = b * glm::dot(glm::abs(b), e);
+    const auto base = static_cast<std::uint32_t>(m.vertices.size());
+    const glm::vec3 corners[4] = {fc - ea - eb, fc + ea - eb, fc + ea + eb, fc - ea + eb};
+    const glm::vec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (int k = 0; k < 4; ++k) m.vertices.push_back(Vertex{corners[k], n, uvs[k] * 2.0f});
+    // (−a−b) → (a−b) → (a+b) turns counter-clockwise about n = a × b.
+    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
 }
 
 }  // namespace hw::scenes

@@ -60,4 +60,12 @@ struct Scene {
   void computeBounds();  // from the meshes' bounds (calls Mesh::computeBounds)
 };
 
+// The texture used where a file's texture cannot be found: a magenta/white
+// checker, 64×64, so the gap is visible (loaders also record a warning).
+Image<Rgba8> missingTexture();
+
+// Appends an axis-aligned box to `mesh`: outward normals, counter-clockwise
+// seen from outside (one-sided faces are culled from inside), uv 0..2 per face.
+void appendBox(Mesh& mesh, const glm::vec3& lo, const glm::vec3& hi);
+
 }  // namespace hw::scenes

@@ -18,24 +18,6 @@
 namespace hw {
 namespace {
 
-void addBox(scenes::Mesh& m, glm::vec3 lo, glm::vec3 hi) {
-  const glm::vec3 n[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (const glm::vec3& nn : n) {
-    // Face on the side nn points to, spanned by tangents a and b.
-    const glm::vec3 a = std::abs(nn.y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-    const glm::vec3 b = glm::cross(nn, a);
-    const glm::vec3 c = 0.5f * (lo + hi), e = 0.5f * (hi - lo);
-    const glm::vec3 fc = c + nn * glm::dot(glm::abs(nn), e);
-    const glm::vec3 ea = a * glm::dot(glm::abs(a), e), eb = b * glm::dot(glm::abs(b), e);
-    const auto base = static_cast<std::uint32_t>(m.vertices.size());
-    for (glm::vec3 p : {fc - ea - eb, fc + ea - eb, fc + ea + eb, fc - ea + eb})
-      m.vertices.push_back(scenes::Vertex{p, nn, {}});
-    // b = nn × a, so a × b = nn: (−a−b) → (a−b) → (a+b) is counter-clockwise
-    // seen from outside (from +nn).
-    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-  }
-}
-
 // A wall at z = −10 and a box in front of it at z ≈ −5.
 scenes::Scene boxScene() {
   scenes::Scene s;
@@ -45,8 +27,8 @@ scenes::Scene boxScene() {
   scenes::Mesh wall, box;
   wall.material = 0;
   box.material = 1;
-  addBox(wall, {-40, -20, -10.5f}, {40, 20, -10});
-  addBox(box, {-0.5f, -0.5f, -5.5f}, {0.5f, 0.5f, -4.5f});
+  scenes::appendBox(wall, {-40, -20, -10.5f}, {40, 20, -10});
+  scenes::appendBox(box, {-0.5f, -0.5f, -5.5f}, {0.5f, 0.5f, -4.5f});
   s.meshes = {wall, box};
   s.computeBounds();
   return s;
