@@ -2,16 +2,7 @@
 # A real OpenArena map (scripts/test.sh fetched the packages into the cache
 # first): oa_dm5 loads with its patches, and a short hybrid walk through it
 # reaches a sane quality. Usage: openarena.sh HYBRIDWALK SOURCE_DIR
-set -u
-hw=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-check() {
-  local name=$1; shift
-  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
+source "$(dirname "$0")/lib.bash"
 "$hw" scenes list >"$tmp/list" 2>&1
 check "oa_dm5 is in the cache (run scripts/test.sh or 'hybridwalk scenes fetch')" grep -q '^q3:oa_dm5$' "$tmp/list"
 check "all 50 maps listed" test "$(grep -c '^q3:' "$tmp/list")" -eq 50
@@ -24,5 +15,4 @@ check "strip written" test -n "$(ls "$tmp/w"/strip_*.png 2>/dev/null)"
 "$hw" walk --scene q3:no_such_map --out "$tmp/x" --quiet >/dev/null 2>"$tmp/err2"
 check "unknown map refused" test $? -ne 0
 check "unknown map message names it" grep -q "no_such_map" "$tmp/err2"
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+finish

@@ -2,16 +2,7 @@
 # The sweep's index.html renders in a real browser (Debian's chromium,
 # headless) with its images: the screenshot is kept as a test artifact in
 # build/artifacts/sweep_index.png. Usage: report_html.sh HYBRIDWALK SOURCE_DIR
-set -u
-hw=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-check() {
-  local name=$1; shift
-  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
+source "$(dirname "$0")/lib.bash"
 artifacts=$(dirname "$(dirname "$hw")")/artifacts
 mkdir -p "$artifacts"
 "$hw" sweep --scene indoor:20k --frames 11 --tau 2^11,2^15 --five-point-only --no-variants \
@@ -40,5 +31,4 @@ check "screenshot shows the images (${size} bytes vs ${size0} without them)" \
   test "$size0" -gt 0 -a "$size" -gt $((size0 * 6 / 5))
 check "index.html references existing images" \
   bash -c 'cd "$1" && for f in $(grep -o "src=\"[^\"]*\"" index.html | sed "s/src=\"//; s/\"$//"); do test -s "$f" || { echo "missing $f"; exit 1; }; done' _ "$tmp/s"
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+finish

@@ -2,16 +2,7 @@
 # Small real runs of `sweep` and `bench`: outputs exist, tables have the
 # expected rows, plots are PNGs, and bad options are refused.
 # Usage: sweep_bench.sh HYBRIDWALK SOURCE_DIR
-set -u
-hw=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-check() {
-  local name=$1; shift
-  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
+source "$(dirname "$0")/lib.bash"
 is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
 "$hw" sweep --scene indoor:20k --frames 11 --tau 2^8,2^11,2^15 --out "$tmp/s" --quiet >"$tmp/out" 2>&1
@@ -45,5 +36,4 @@ check "sweep bad tau wrote nothing" test ! -e "$tmp/bad"
 check "bench bad sizes refused" test $? -ne 0
 check "bench bad sizes message" grep -q "sizes" "$tmp/err"
 
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+finish

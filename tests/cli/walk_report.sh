@@ -1,16 +1,7 @@
 #!/usr/bin/env bash
 # A short real walk: report.json carries the DESIGN.md fields, strips exist,
 # and saved frames are non-trivial PNGs. Usage: walk_report.sh HYBRIDWALK SOURCE_DIR
-set -u
-hw=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-check() {  # check NAME COMMAND...
-  local name=$1; shift
-  if "$@"; then passed=$((passed + 1)); else echo "FAIL $name"; failures=$((failures + 1)); fi
-}
+source "$(dirname "$0")/lib.bash"
 "$hw" walk --scene indoor:20k --frames 12 --save-frames --strips 2 --out "$tmp/w" --quiet >"$tmp/stdout" 2>"$tmp/stderr"
 code=$?
 check "walk exits 0 (stderr: $(tail -3 "$tmp/stderr"))" test $code -eq 0
@@ -43,5 +34,4 @@ check "export keyframe png" test -s "$tmp/e/key_0000.png"
 check "export keyframe depth" test -s "$tmp/e/key_0000.depth.pfm"
 check "export last frame is a keyframe" test -s "$tmp/e/key_0011.png"
 check "export in-between reference" test -s "$tmp/e/frame_0005.png"
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+finish
