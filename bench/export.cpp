@@ -81,7 +81,7 @@ Status exportKeyframes(const scenes::Scene& scene, const scenes::CameraPath& pat
   HW_CHECK_GE(path.keyframeEvery, 1);
   HW_TRY(ensureWritableDir(outDir));
   const int frames = options.maxFrames > 0 ? std::min(options.maxFrames, path.frames) : path.frames;
-  const keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery};
+  const keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery, {}};
 
   int total = 0;
   for (int i = 0; i < frames; ++i)

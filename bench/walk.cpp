@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -67,9 +68,18 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   if (!warperR) return warperR.error();
   auto& warper = **warperR;
 
-  keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery};
+  keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery, {}};
+  for (int k : opt.keyframeFrames)
+    if (k > 0 && k < frames - 1) schedule.explicitFrames.push_back(k);
+  std::sort(schedule.explicitFrames.begin(), schedule.explicitFrames.end());
+  schedule.explicitFrames.erase(
+      std::unique(schedule.explicitFrames.begin(), schedule.explicitFrames.end()),
+      schedule.explicitFrames.end());
+  if (!opt.keyframeFrames.empty() && schedule.explicitFrames.empty())
+    schedule.explicitFrames.push_back(frames - 1);  // only the two ends
   keyframe::KeyframeCache cache(renderer, keyframe::MeshSpec{opt.mesh, opt.lod, opt.tileSize},
                                 [&](int i) { return path.cameraAt(i); });
+  if (opt.keyframeSource) cache.setSource(opt.keyframeSource);
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
   std::map<int, warp::WarpStats> uploadStats;
 
@@ -266,6 +276,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["keyframes"] = static_cast<int>(cache.builds());
   summary["in_between_frames"] = static_cast<int>(inBetween.size());
   summary["keyframe_every"] = path.keyframeEvery;
+  summary["keyframe_schedule"] = opt.keyframeFrames.empty() ? "fixed" : "explicit";
+  summary["keyframe_frames"] = schedule.keyframes();
   summary["tau"] = opt.lod.tauParallaxPx > 0 ? json(nullptr) : json(opt.lod.tau);
   summary["tau_parallax_px"] = opt.lod.tauParallaxPx;
   summary["criterion"] = keyframe::deltaCriterionName(opt.lod.criterion);

@@ -6,6 +6,7 @@
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -39,6 +40,11 @@ struct WalkOptions {
   // walks) and report["frames"] is empty.
   bool keepFrames = true;
   std::string glRenderer, glVersion;  // recorded in the report's machine block
+  // Keyframe frames in order (empty = every path.keyframeEvery frames); the
+  // first and last frame are always keyframes.
+  std::vector<int> keyframeFrames;
+  // Where keyframes come from (empty = rendered and meshed on the fly).
+  keyframe::KeyframeCache::Source keyframeSource;
 };
 
 struct WalkResult {

@@ -9,12 +9,28 @@
 namespace hw::keyframe {
 
 bool KeyframeSchedule::isKeyframe(int frame) const {
-  return frame % keyframeEvery == 0 || frame == frames - 1;
+  if (frame == 0 || frame == frames - 1) return true;
+  if (!explicitFrames.empty())
+    return std::binary_search(explicitFrames.begin(), explicitFrames.end(), frame);
+  return frame % keyframeEvery == 0;
+}
+
+std::vector<int> KeyframeSchedule::keyframes() const {
+  std::vector<int> k;
+  for (int i = 0; i < frames; ++i)
+    if (isKeyframe(i)) k.push_back(i);
+  return k;
 }
 
 std::pair<int, int> KeyframeSchedule::bracket(int frame) const {
   HW_CHECK(frame >= 0 && frame < frames);
   if (isKeyframe(frame)) return {frame, frame};
+  if (!explicitFrames.empty()) {
+    const auto hi = std::upper_bound(explicitFrames.begin(), explicitFrames.end(), frame);
+    const int k1 = hi == explicitFrames.end() ? frames - 1 : *hi;
+    const int k0 = hi == explicitFrames.begin() ? 0 : *(hi - 1);
+    return {k0, std::min(k1, frames - 1)};
+  }
   const int k0 = frame / keyframeEvery * keyframeEvery;
   return {k0, std::min(k0 + keyframeEvery, frames - 1)};
 }
@@ -50,6 +66,14 @@ Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
     e = std::make_unique<CachedKeyframe>();
   }
   e->frame = frame;
+  if (source_) {
+    HW_TRY(source_(frame, *e));
+    e->frame = frame;
+    ++builds_;
+    entries_.push_back(std::move(e));
+    if (built) *built = true;
+    return static_cast<const CachedKeyframe*>(entries_.back().get());
+  }
   HW_TRY(renderer_.renderKeyframe(cameraOf_(frame), e->keyframe, &e->render));
   e->renderMs = e->render.drawMs + e->render.readbackMs;
   switch (mesh_.method) {

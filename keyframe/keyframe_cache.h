@@ -17,11 +17,17 @@
 namespace hw::keyframe {
 
 // Keyframe schedule: every `keyframeEvery`-th frame, plus the last frame so
-// that every in-between frame has a keyframe on both sides.
+// that every in-between frame has a keyframe on both sides. A non-empty
+// `explicitFrames` (sorted, unique, in [0, frames)) replaces the fixed
+// spacing, e.g. an error-driven schedule; frames 0 and frames−1 are always
+// keyframes.
 struct KeyframeSchedule {
   int frames = 1;
   int keyframeEvery = 1;
+  std::vector<int> explicitFrames;
   bool isKeyframe(int frame) const;
+  // All keyframes in order.
+  std::vector<int> keyframes() const;
   // The keyframes bracketing `frame` (equal when `frame` is a keyframe).
   std::pair<int, int> bracket(int frame) const;
 };
@@ -51,6 +57,11 @@ struct CachedKeyframe {
 
 class KeyframeCache {
  public:
+  // Where a keyframe comes from when it is not cached: by default the
+  // geometry renderer and the mesh builder; a source (e.g. a baked keyframe
+  // database) fills `out` (frame, keyframe, mesh, render stats) instead.
+  using Source = std::function<Status(int frame, CachedKeyframe& out)>;
+  void setSource(Source source) { source_ = std::move(source); }
   // `renderer` must outlive the cache. capacity ≥ 2.
   KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh, std::function<Camera(int)> cameraOf,
                 std::size_t capacity = 3);
@@ -66,6 +77,7 @@ class KeyframeCache {
   LodBuilder builder_;
   std::vector<std::unique_ptr<CachedKeyframe>> entries_;  // most recently used last
   std::size_t builds_ = 0;
+  Source source_;
 };
 
 }  // namespace hw::keyframe
