@@ -197,6 +197,8 @@ int main(int argc, char** argv) {
   bool mergeStrips = false;
   double tauPx = 0;
   bool noRef = false, saveFrames = false, quiet = false, noSky = false;
+  std::string layers = "fused";
+  bool noSkipBg = false, noSkipPrev = false;
   int strips = 4;
   auto* walk = app.add_subcommand(
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
@@ -234,6 +236,18 @@ int main(int argc, char** argv) {
   walk->add_flag("--no-sky-backdrop", noSky,
                  "Do not draw empty keyframe pixels (sky) as a backdrop at infinity; they then "
                  "count as holes, as in the paper");
+  walk->add_option("--layers", layers,
+                   "How the two warped layers are composed (overlay rule): fused (one render "
+                   "target, background drawn only where the foreground left pixels empty, one "
+                   "readback) or separate (the paper's two layers read back and composed on the "
+                   "CPU). Depth-merge always uses separate")
+      ->check(CLI::IsMember({"fused", "separate"}))
+      ->capture_default_str();
+  walk->add_flag("--no-skip-background", noSkipBg,
+                 "Draw the background layer even when the foreground covers every pixel "
+                 "(default: a coverage test skips it; the frame is identical)");
+  walk->add_flag("--no-skip-previous", noSkipPrev,
+                 "Run the previous-frame fill even when the layers leave no holes");
   walk->add_flag("--no-reference", noRef,
                  "Skip the geometry reference render (no PSNR/SSIM; faster)");
   walk->add_flag("--save-frames", saveFrames, "Write every frame and hole mask as PNG");
@@ -619,6 +633,9 @@ int main(int argc, char** argv) {
   gapfill::parseComposeMode(compose.c_str(), &wo.compose.mode);
   wo.warp.texcoords = texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
   wo.warp.skyBackdrop = !noSky;
+  wo.fusedLayers = layers == "fused";
+  wo.skipBackground = !noSkipBg;
+  wo.skipPrevious = !noSkipPrev;
   wo.depthMode = depthModeOf(walkC.depth);
   wo.reference = !noRef;
   wo.saveFrames = saveFrames;

@@ -108,6 +108,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     if (!framesFile) return makeError("cannot write " + framesScratch + ": " + std::strerror(errno));
   }
   bool firstFrameWritten = false;
+  int backgroundSkips = 0, previousSkips = 0;
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames, "walk");
@@ -198,27 +199,70 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                                                    kfb->keyframe.camera.eye);
       const int fgFrame = fgPick == 0 ? k0 : k1, bgFrame = fgPick == 0 ? k1 : k0;
       Stopwatch total;
-      warp::WarpStats wa, wb;
-      HW_TRY(warper.warp(*sources[fgFrame], cam, layerA, &wa));
-      HW_TRY(warper.warp(*sources[bgFrame], cam, layerB, &wb));
-      Stopwatch sc;
-      gapfill::compose(layerA, &layerB, havePrevious ? &previous : nullptr, opt.compose, frame);
-      const double composeT = sc.ms();
+      const bool fused = opt.fusedLayers && opt.compose.mode == gapfill::ComposeMode::Overlay;
+      bool bgSkipped = false, prevSkipped = false;
+      int quadsDrawn = 0;
+      double composeT = 0;
+      if (fused) {
+        warp::PairStats ps;
+        HW_TRY(warper.warpPair(*sources[fgFrame], sources[bgFrame].get(), cam, layerA,
+                               opt.skipBackground, &ps));
+        bgSkipped = !ps.backgroundDrawn;
+        Stopwatch sc;
+        if (ps.uncovered == 0 && opt.skipPrevious) {
+          // Nothing to fill: the layer image is the frame (buffers swapped, no copy).
+          prevSkipped = true;
+          if (frame.colour.width() != cam.width || frame.colour.height() != cam.height) {
+            frame.holesBefore.resize(cam.width, cam.height);
+            frame.valid.resize(cam.width, cam.height);
+          }
+          std::swap(frame.colour, layerA.colour);
+          frame.holesBefore.fill(0);
+          frame.valid.fill(1);
+          frame.holeFractionBefore = frame.holeFractionAfter = 0;
+          frame.fromForeground = cam.width * cam.height - ps.fromBackground;
+          frame.fromBackground = ps.fromBackground;
+          frame.fromPrevious = frame.unfilled = 0;
+        } else {
+          gapfill::compose(layerA, nullptr, havePrevious ? &previous : nullptr, opt.compose, frame);
+          frame.fromForeground -= ps.fromBackground;
+          frame.fromBackground = ps.fromBackground;
+        }
+        composeT = sc.ms();
+        quadsDrawn = ps.quadsForeground + ps.quadsBackground;
+        ms = {{"warp_a", ps.foregroundMs}, {"warp_b", ps.backgroundMs},
+              {"readback", ps.readbackMs}, {"compose", composeT}};
+        warpMs.push_back(ps.foregroundMs + ps.backgroundMs + ps.readbackMs);
+      } else {
+        warp::WarpStats wa, wb;
+        HW_TRY(warper.warp(*sources[fgFrame], cam, layerA, &wa));
+        bgSkipped = opt.skipBackground && wa.uncovered == 0;
+        if (!bgSkipped) HW_TRY(warper.warp(*sources[bgFrame], cam, layerB, &wb));
+        Stopwatch sc;
+        gapfill::compose(layerA, bgSkipped ? nullptr : &layerB,
+                         havePrevious ? &previous : nullptr, opt.compose, frame);
+        composeT = sc.ms();
+        quadsDrawn = wa.quads + wb.quads;
+        ms = {{"warp_a", wa.drawMs + wa.readbackMs}, {"warp_b", wb.drawMs + wb.readbackMs},
+              {"warp_a_draw", wa.drawMs},           {"warp_b_draw", wb.drawMs},
+              {"readback", wa.readbackMs + wb.readbackMs},
+              {"compose", composeT}};
+        warpMs.push_back(wa.drawMs + wa.readbackMs + wb.drawMs + wb.readbackMs);
+      }
       const double totalMs = total.ms();
+      ms["total"] = totalMs;
+      backgroundSkips += bgSkipped;
+      previousSkips += prevSkipped;
       fj["is_keyframe"] = false;
       fj["keyframes"] = {k0, k1};
       fj["foreground"] = fgFrame;
-      fj["quads"] = wa.quads + wb.quads;
-      ms = {{"warp_a", wa.drawMs + wa.readbackMs}, {"warp_b", wb.drawMs + wb.readbackMs},
-            {"warp_a_draw", wa.drawMs},           {"warp_b_draw", wb.drawMs},
-            {"readback", wa.readbackMs + wb.readbackMs},
-            {"compose", composeT},                {"total", totalMs}};
+      fj["quads"] = quadsDrawn;
+      fj["skipped"] = {{"background", bgSkipped}, {"previous_frame", prevSkipped}};
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
       holesBefore.push_back(frame.holeFractionBefore);
       holesAfter.push_back(frame.holeFractionAfter);
       inBetweenMs.push_back(totalMs);
-      warpMs.push_back(wa.drawMs + wa.readbackMs + wb.drawMs + wb.readbackMs);
       composeMs.push_back(composeT);
       if (opt.reference) {
         const double p = psnr(frame.colour, reference);
@@ -289,6 +333,12 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["compose_mode"] = gapfill::composeModeName(opt.compose.mode);
   summary["texcoords"] = warp::texcoordModeName(opt.warp.texcoords);
   summary["sky_backdrop"] = opt.warp.skyBackdrop;
+  const bool fusedUsed = opt.fusedLayers && opt.compose.mode == gapfill::ComposeMode::Overlay;
+  summary["layers"] = fusedUsed ? "fused" : "separate";
+  summary["skip_background"] = opt.skipBackground;
+  summary["skip_previous_frame"] = opt.skipPrevious;
+  summary["background_layer_skipped_frames"] = backgroundSkips;
+  summary["previous_frame_pass_skipped_frames"] = previousSkips;
   summary["psnr"] = stats(psnrs);
   summary["ssim"] = stats(ssims);
   summary["holes_before_fallback"] = stats(holesBefore);

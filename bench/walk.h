@@ -27,6 +27,18 @@ struct WalkOptions {
   int tileSize = 8;                             // pixels, MeshMethod::UniformTiles
   DepthMode depthMode = kDefaultDepthMode;     // keyframe depth buffer
   gapfill::ComposeOptions compose;              // paper's overlay or depth merge
+  // Skips (issue #8), each switchable and measured on and off:
+  // Both layers in one render target, composed on the GPU by the overlay rule
+  // (Warper::warpPair); off = the paper's two layers read back and composed
+  // on the CPU. Depth-merge composition always uses two layers.
+  bool fusedLayers = true;
+  // No background layer when the foreground covers every pixel (coverage
+  // test: an occlusion query in the fused pass, the layer's readback count
+  // otherwise). The frame is bit-identical.
+  bool skipBackground = true;
+  // No previous-frame pass when the layers leave no holes (fused pass: the
+  // frame is the layer image itself).
+  bool skipPrevious = true;
   warp::WarpOptions warp;                       // texcoords, sky backdrop
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path

@@ -13,7 +13,8 @@ constexpr float kSkyEyeZ = 1.0e30f;
 
 struct Layer {
   Image<Rgba8> colour;          // row 0 = top
-  Image<std::uint8_t> coverage; // 1 where a quad covers the pixel
+  Image<std::uint8_t> coverage; // non-zero where a quad covers the pixel (Warper::warpPair:
+                                // 1 = foreground layer, 2 = background layer)
   Image<float> eyeZ;            // distance along the current camera's W; 0 where not
                                 // covered, kSkyEyeZ for the sky backdrop
 };

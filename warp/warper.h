@@ -40,6 +40,20 @@ struct WarpStats {
   double drawMs = 0;      // draw + glFinish
   double readbackMs = 0;  // colour + depth readback
   int quads = 0;
+  int uncovered = 0;      // pixels of the layer no quad or sky rectangle covers
+};
+
+// One fused pass for both layers (Warper::warpPair).
+struct PairStats {
+  double foregroundMs = 0;  // foreground draw + coverage query (waits for both)
+  double backgroundMs = 0;  // background draw + glFinish (0 when skipped)
+  double readbackMs = 0;    // one colour readback + coverage
+  int quadsForeground = 0;
+  int quadsBackground = 0;      // 0 when the background layer was skipped
+  bool backgroundDrawn = false;
+  int uncoveredByForeground = 0;  // from the query: pixels the foreground left empty
+  int fromBackground = 0;         // pixels the background filled
+  int uncovered = 0;              // pixels neither layer covers (the paper's holes)
 };
 
 // GPU copy of one keyframe (texture + quad vertex buffer).
@@ -62,6 +76,18 @@ class Warper {
   // Draws `source` from `target` into `out` (resized to the target's size).
   virtual Status warp(const WarpSource& source, const Camera& target, Layer& out,
                       WarpStats* stats = nullptr) = 0;
+  // The paper's overlay of two layers (§2.2 (i): foreground where it covers,
+  // else background) in one render target: the foreground is drawn and marks
+  // the stencil; an occlusion query counts the pixels it left empty (the
+  // coverage test); only if there are any — and `background` is given — is
+  // the background drawn, where the stencil is still 0. One readback. The
+  // result equals warp(fg) + warp(bg) + compose(Overlay) pixel for pixel.
+  // out.coverage: 1 = foreground, 2 = background, 0 = neither; out.eyeZ is
+  // left empty. skipBackgroundWhenCovered = false draws the background even
+  // when the query finds nothing to fill (for measuring the skip).
+  virtual Status warpPair(const WarpSource& foreground, const WarpSource* background,
+                          const Camera& target, Layer& out, bool skipBackgroundWhenCovered,
+                          PairStats* stats = nullptr) = 0;
   virtual const WarpOptions& options() const = 0;
 };
 

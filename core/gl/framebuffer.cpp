@@ -21,6 +21,7 @@ Framebuffer& Framebuffer::operator=(Framebuffer&& o) noexcept {
     height_ = o.height_;
     mode_ = o.mode_;
     hasFloat_ = o.hasFloat_;
+    hasStencil_ = o.hasStencil_;
     rawDepth_ = std::move(o.rawDepth_);
     rawFloat_ = std::move(o.rawFloat_);
     rowScratch_ = std::move(o.rowScratch_);
@@ -37,13 +38,17 @@ void Framebuffer::release() {
 }
 
 Result<Framebuffer> Framebuffer::create(int width, int height, DepthMode mode,
-                                        bool withFloatChannel) {
+                                        bool withFloatChannel, bool withStencil) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
   if (width < 1 || height < 1 || width > maxSize || height > maxSize)
     return makeError("framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                      " is outside 1.." + std::to_string(maxSize));
+  if (withStencil && mode != DepthMode::Fixed24)
+    return makeError(std::string("framebuffer: a stencil needs the fixed24 depth mode, not ") +
+                     depthModeName(mode));
   Framebuffer fb;
+  fb.hasStencil_ = withStencil;
   fb.width_ = width;
   fb.height_ = height;
   fb.mode_ = mode;
@@ -65,11 +70,15 @@ Result<Framebuffer> Framebuffer::create(int width, int height, DepthMode mode,
     fb.floatTex_ = makeTex(GL_R32F, GL_RED, GL_FLOAT);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, fb.floatTex_, 0);
   }
-  if (mode == DepthMode::Fixed24)
+  if (withStencil)
+    fb.depth_ = makeTex(GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8);
+  else if (mode == DepthMode::Fixed24)
     fb.depth_ = makeTex(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT);
   else
     fb.depth_ = makeTex(GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, fb.depth_, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER,
+                         withStencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
+                         GL_TEXTURE_2D, fb.depth_, 0);
   const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glDrawBuffers(withFloatChannel ? 2 : 1, bufs);
   const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -100,7 +109,14 @@ void Framebuffer::bindAndClear(float r, float g, float b, float a) {
     glClearDepth(1.0);
   }
   glClearColor(r, g, b, a);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_STENCIL_TEST);
+  if (hasStencil_) {
+    glStencilMask(0xFF);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  } else {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
   if (hasFloat_) {
     // Attachment 1 cleared separately to 0 (no coverage / no depth).
     const GLenum only1[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};

@@ -21,12 +21,14 @@ class Framebuffer {
   Framebuffer(const Framebuffer&) = delete;
   Framebuffer& operator=(const Framebuffer&) = delete;
 
-  // Needs a current context. withFloatChannel adds colour attachment 1 (R32F).
+  // Needs a current context. withFloatChannel adds colour attachment 1 (R32F);
+  // withStencil makes the depth attachment DEPTH24_STENCIL8 (Fixed24 only).
   static Result<Framebuffer> create(int width, int height, DepthMode mode,
-                                    bool withFloatChannel = false);
+                                    bool withFloatChannel = false, bool withStencil = false);
 
   // Binds, sets viewport, clip control and depth function for the mode, and
-  // clears colour to `clear` (and the float channel to 0) and depth to far.
+  // clears colour to `clear` (and the float channel to 0), depth to far and
+  // the stencil (if any) to 0; the stencil test is left disabled.
   void bindAndClear(float r, float g, float b, float a);
 
   void readColour(Image<Rgba8>& out);
@@ -45,6 +47,7 @@ class Framebuffer {
   int width_ = 0, height_ = 0;
   DepthMode mode_ = DepthMode::Fixed24;
   bool hasFloat_ = false;
+  bool hasStencil_ = false;
   std::vector<std::uint32_t> rawDepth_;  // readback scratch, reused
   std::vector<float> rawFloat_;
   std::vector<Rgba8> rowScratch_;

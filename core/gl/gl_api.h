@@ -85,7 +85,16 @@
   X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)                 \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)           \
   X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                         \
-  X(PFNGLCLIPCONTROLPROC, glClipControl)
+  X(PFNGLCLIPCONTROLPROC, glClipControl)                                 \
+  X(PFNGLSTENCILFUNCPROC, glStencilFunc)                                 \
+  X(PFNGLSTENCILOPPROC, glStencilOp)                                     \
+  X(PFNGLSTENCILMASKPROC, glStencilMask)                                 \
+  X(PFNGLCLEARSTENCILPROC, glClearStencil)                               \
+  X(PFNGLGENQUERIESPROC, glGenQueries)                                   \
+  X(PFNGLDELETEQUERIESPROC, glDeleteQueries)                             \
+  X(PFNGLBEGINQUERYPROC, glBeginQuery)                                   \
+  X(PFNGLENDQUERYPROC, glEndQuery)                                       \
+  X(PFNGLGETQUERYOBJECTUIVPROC, glGetQueryObjectuiv)
 
 namespace hwgl {
 #define HW_GL_DECLARE(type, name) extern type name;

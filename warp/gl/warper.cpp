@@ -40,13 +40,28 @@ in vec3 vTex;
 in float vEyeZ;
 uniform sampler2D uKey;
 uniform float uSkyEyeZ;  // > 0 while drawing sky rectangles
+uniform float uAlpha;    // 1; 254/255 marks the background layer in a fused pair
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out float oEyeZ;
 void main() {
-  oColour = vec4(textureProj(uKey, vTex).rgb, 1.0);
+  oColour = vec4(textureProj(uKey, vTex).rgb, uAlpha);
   oEyeZ = uSkyEyeZ > 0.0 ? uSkyEyeZ : vEyeZ;
 }
 )";
+
+// The coverage query: a full-screen triangle, no outputs (colour writes off).
+constexpr const char* kQueryVertex = R"(#version 450 core
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+constexpr const char* kQueryFragment = R"(#version 450 core
+void main() {}
+)";
+
+// Alpha of background pixels in a fused pair: exactly 254 in RGBA8.
+constexpr float kBackgroundAlpha = 254.0f / 255.0f;
 
 struct WarpVertex {
   float pos[4];
@@ -80,7 +95,17 @@ class GlWarper final : public Warper {
     uView_ = program_.uniform("uView");
     uKey_ = program_.uniform("uKey");
     uSkyEyeZ_ = program_.uniform("uSkyEyeZ");
+    uAlpha_ = program_.uniform("uAlpha");
+    auto q = gl::Program::build("coverage query", kQueryVertex, kQueryFragment);
+    if (!q) return q.error();
+    queryProgram_ = std::move(*q);
+    glGenVertexArrays(1, &emptyVao_);
+    glGenQueries(1, &query_);
     return gl::checkGlError("Warper::create");
+  }
+  ~GlWarper() override {
+    if (emptyVao_) glDeleteVertexArrays(1, &emptyVao_);
+    if (query_) glDeleteQueries(1, &query_);
   }
 
   Result<std::unique_ptr<WarpSource>> upload(const keyframe::Keyframe& kf,
@@ -160,17 +185,125 @@ class GlWarper final : public Warper {
   Status warp(const WarpSource& source, const Camera& target, Layer& out,
               WarpStats* stats) override {
     const auto& src = static_cast<const GlWarpSource&>(source);
+    HW_TRY(ensureTarget(target, options_.writeEyeZ, false, fbo_));
+    Stopwatch sw;
+    fbo_.bindAndClear(0, 0, 0, 0);
+    drawSource(src, target, 1.0f);
+    glFinish();
+    const double drawMs = sw.lap();
+    fbo_.readColour(out.colour);
+    if (options_.writeEyeZ) fbo_.readFloatChannel(out.eyeZ);
+    else out.eyeZ.resize(0, 0);
+    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
+      out.coverage.resize(target.width, target.height);
+    const std::size_t n = out.colour.size();
+    const Rgba8* c = out.colour.data();
+    std::uint8_t* cov = out.coverage.data();
+    int uncovered = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int on = c[i].a != 0;
+      cov[i] = static_cast<std::uint8_t>(on);
+      uncovered += 1 - on;
+    }
+    if (stats) {
+      stats->drawMs = drawMs;
+      stats->readbackMs = sw.ms();
+      stats->quads = src.quads;
+      stats->uncovered = uncovered;
+    }
+    return gl::checkGlError("Warper::warp");
+  }
+
+  Status warpPair(const WarpSource& foreground, const WarpSource* background,
+                  const Camera& target, Layer& out, bool skipBackgroundWhenCovered,
+                  PairStats* stats) override {
+    const auto& fg = static_cast<const GlWarpSource&>(foreground);
+    HW_TRY(ensureTarget(target, false, true, pairFbo_));
+    Stopwatch sw;
+    pairFbo_.bindAndClear(0, 0, 0, 0);
+    // Foreground: every pixel it writes (quads or sky) gets stencil 1.
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    glStencilFunc(GL_ALWAYS, 1, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    drawSource(fg, target, 1.0f);
+    // Coverage test: how many pixels still have stencil 0.
+    glStencilMask(0x00);
+    glStencilFunc(GL_EQUAL, 0, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    queryProgram_.use();
+    glBindVertexArray(emptyVao_);
+    glBeginQuery(GL_SAMPLES_PASSED, query_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEndQuery(GL_SAMPLES_PASSED);
+    GLuint emptyAfterFg = 0;
+    glGetQueryObjectuiv(query_, GL_QUERY_RESULT, &emptyAfterFg);
+    const double fgMs = sw.lap();
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    const bool drawBg =
+        background != nullptr && (emptyAfterFg > 0 || !skipBackgroundWhenCovered);
+    if (drawBg) {
+      // Background only where the foreground left pixels empty; its own
+      // depth test among its quads, not against the foreground's (overlay).
+      glClear(GL_DEPTH_BUFFER_BIT);
+      drawSource(static_cast<const GlWarpSource&>(*background), target, kBackgroundAlpha);
+    }
+    glDisable(GL_STENCIL_TEST);
+    glFinish();
+    const double bgMs = sw.lap();
+    pairFbo_.readColour(out.colour);
+    out.eyeZ.resize(0, 0);
+    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
+      out.coverage.resize(target.width, target.height);
+    const std::size_t n = out.colour.size();
+    Rgba8* c = out.colour.data();
+    std::uint8_t* cov = out.coverage.data();
+    int fromBg = 0, uncovered = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t a = c[i].a;
+      const int isBg = a == 254, isNone = a == 0;
+      cov[i] = static_cast<std::uint8_t>(isNone ? 0 : 1 + isBg);
+      c[i].a = isNone ? 0 : 255;
+      fromBg += isBg;
+      uncovered += isNone;
+    }
+    if (stats) {
+      stats->foregroundMs = fgMs;
+      stats->backgroundMs = bgMs;
+      stats->readbackMs = sw.ms();
+      stats->quadsForeground = fg.quads;
+      stats->quadsBackground = drawBg ? background->quadCount() : 0;
+      stats->backgroundDrawn = drawBg;
+      stats->uncoveredByForeground = static_cast<int>(emptyAfterFg);
+      stats->fromBackground = fromBg;
+      stats->uncovered = uncovered;
+    }
+    return gl::checkGlError("Warper::warpPair");
+  }
+
+  const WarpOptions& options() const override { return options_; }
+
+ private:
+  Status ensureTarget(const Camera& target, bool eyeZ, bool stencil, gl::Framebuffer& fbo) {
     if (target.width < 1 || target.height < 1)
       return makeError("warp: target image size " + std::to_string(target.width) + "x" +
                        std::to_string(target.height) + ": expected at least 1x1");
-    if (fbo_.width() != target.width || fbo_.height() != target.height) {
-      auto fb = gl::Framebuffer::create(target.width, target.height, DepthMode::Fixed24,
-                                        options_.writeEyeZ);
+    if (fbo.width() != target.width || fbo.height() != target.height) {
+      auto fb = gl::Framebuffer::create(target.width, target.height, DepthMode::Fixed24, eyeZ,
+                                        stencil);
       if (!fb) return fb.error();
-      fbo_ = std::move(*fb);
+      fbo = std::move(*fb);
     }
-    Stopwatch sw;
-    fbo_.bindAndClear(0, 0, 0, 0);
+    return {};
+  }
+
+  // Sky rectangles (behind everything) then the quads, into the bound target.
+  void drawSource(const GlWarpSource& src, const Camera& target, float alpha) {
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, src.tex);
     const glm::mat4 vp(target.projectionMatrix(DepthMode::Fixed24, options_.infiniteFar) *
@@ -180,6 +313,7 @@ class GlWarper final : public Warper {
     glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, glm::value_ptr(vp));
     glUniformMatrix4fv(uView_, 1, GL_FALSE, glm::value_ptr(view));
     glUniform1i(uKey_, 0);
+    glUniform1f(uAlpha_, alpha);
     glDisable(GL_CULL_FACE);  // quads may face away from the new view
     glDisable(GL_BLEND);
     glBindVertexArray(src.vao);
@@ -195,32 +329,15 @@ class GlWarper final : public Warper {
     glUniform1f(uSkyEyeZ_, 0.0f);
     glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
     glBindVertexArray(0);
-    glFinish();
-    const double drawMs = sw.lap();
-    fbo_.readColour(out.colour);
-    if (options_.writeEyeZ) fbo_.readFloatChannel(out.eyeZ);
-    else out.eyeZ.resize(0, 0);
-    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
-      out.coverage.resize(target.width, target.height);
-    const std::size_t n = out.colour.size();
-    const Rgba8* c = out.colour.data();
-    std::uint8_t* cov = out.coverage.data();
-    for (std::size_t i = 0; i < n; ++i) cov[i] = c[i].a != 0 ? 1 : 0;
-    if (stats) {
-      stats->drawMs = drawMs;
-      stats->readbackMs = sw.ms();
-      stats->quads = src.quads;
-    }
-    return gl::checkGlError("Warper::warp");
   }
 
-  const WarpOptions& options() const override { return options_; }
-
- private:
   std::vector<keyframe::PixelRect> skyRects_;
   WarpOptions options_;
   gl::Program program_;
-  int uViewProj_ = -1, uView_ = -1, uKey_ = -1, uSkyEyeZ_ = -1;
+  int uViewProj_ = -1, uView_ = -1, uKey_ = -1, uSkyEyeZ_ = -1, uAlpha_ = -1;
+  gl::Program queryProgram_;
+  GLuint emptyVao_ = 0, query_ = 0;
+  gl::Framebuffer pairFbo_;
   std::vector<WarpVertex> scratch_;
   gl::Framebuffer fbo_;
 };
