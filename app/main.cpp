@@ -199,6 +199,7 @@ int main(int argc, char** argv) {
   bool noRef = false, saveFrames = false, quiet = false, noSky = false;
   std::string layers = "fused";
   bool noSkipBg = false, noSkipPrev = false;
+  double nearDistance = 0;
   int strips = 4;
   auto* walk = app.add_subcommand(
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
@@ -248,6 +249,13 @@ int main(int argc, char** argv) {
                  "(default: a coverage test skips it; the frame is identical)");
   walk->add_flag("--no-skip-previous", noSkipPrev,
                  "Run the previous-frame fill even when the layers leave no holes");
+  walk->add_option("--near", nearDistance,
+                   "Draw objects near the viewpoint directly (paper §3): meshes whose bounds come "
+                   "within this distance (scene units, e.g. metres) of a keyframe's eye are left "
+                   "out of that keyframe and rendered as geometry into the frames that use it; "
+                   "0 = off")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   walk->add_flag("--no-reference", noRef,
                  "Skip the geometry reference render (no PSNR/SSIM; faster)");
   walk->add_flag("--save-frames", saveFrames, "Write every frame and hole mask as PNG");
@@ -636,6 +644,7 @@ int main(int argc, char** argv) {
   wo.fusedLayers = layers == "fused";
   wo.skipBackground = !noSkipBg;
   wo.skipPrevious = !noSkipPrev;
+  wo.nearDistance = nearDistance;
   wo.depthMode = depthModeOf(walkC.depth);
   wo.reference = !noRef;
   wo.saveFrames = saveFrames;

@@ -39,6 +39,11 @@ struct WalkOptions {
   // No previous-frame pass when the layers leave no holes (fused pass: the
   // frame is the layer image itself).
   bool skipPrevious = true;
+  // Near objects drawn directly (Zheng et al. 1999 §3): meshes whose bounds
+  // come within this distance (scene units) of a keyframe's eye are left out
+  // of that keyframe and drawn as geometry into every frame that uses it,
+  // composed by depth. 0 = off (the paper's pipeline).
+  double nearDistance = 0;
   warp::WarpOptions warp;                       // texcoords, sky backdrop
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path

@@ -5,6 +5,7 @@
 // for the scene, per-mesh frustum culling, meshes sorted by material, no
 // per-frame allocation. Needs a current GL context (core/gl/context.h).
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 
 #include "core/camera.h"
@@ -17,6 +18,11 @@ namespace hw::keyframe {
 struct RenderOptions {
   DepthMode depthMode = kDefaultDepthMode;  // fixed24 = the paper's 24-bit z-buffer
   bool frustumCulling = true;
+  // renderKeyframe leaves out meshes whose bounds come within this distance
+  // (scene units) of the keyframe's eye: objects near the viewpoint float in
+  // warped frames, so they are drawn directly instead (Zheng et al. 1999 §3;
+  // renderNear). 0 = keyframes hold everything (the paper's pipeline).
+  double keyframeExcludeNear = 0;
 };
 
 struct RenderStats {
@@ -38,6 +44,13 @@ class GeometryRenderer {
   // Colour only (reference images); cheaper readback.
   virtual Status renderColour(const Camera& camera, Image<Rgba8>& out,
                               RenderStats* stats = nullptr) = 0;
+  // Only the meshes whose bounds come within `distance` of one of `eyes`
+  // (those renderKeyframe left out of the keyframes at those eyes), drawn at
+  // `camera`: colour, eye z (0 where empty) and coverage, to be composed into
+  // an in-between frame by depth.
+  virtual Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount,
+                            double distance, Image<Rgba8>& colour, Image<float>& eyeZ,
+                            Image<std::uint8_t>& covered, RenderStats* stats = nullptr) = 0;
   virtual std::size_t sceneTriangles() const = 0;
   virtual const RenderOptions& options() const = 0;
 };

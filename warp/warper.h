@@ -82,8 +82,8 @@ class Warper {
   // coverage test); only if there are any — and `background` is given — is
   // the background drawn, where the stencil is still 0. One readback. The
   // result equals warp(fg) + warp(bg) + compose(Overlay) pixel for pixel.
-  // out.coverage: 1 = foreground, 2 = background, 0 = neither; out.eyeZ is
-  // left empty. skipBackgroundWhenCovered = false draws the background even
+  // out.coverage: 1 = foreground, 2 = background, 0 = neither; out.eyeZ as
+  // in warp() when WarpOptions::writeEyeZ. skipBackgroundWhenCovered = false draws the background even
   // when the query finds nothing to fill (for measuring the skip).
   virtual Status warpPair(const WarpSource& foreground, const WarpSource* background,
                           const Camera& target, Layer& out, bool skipBackgroundWhenCovered,

@@ -171,7 +171,8 @@ class GlGeometryRenderer final : public GeometryRenderer {
 
   Status renderKeyframe(const Camera& camera, Keyframe& out, RenderStats* stats) override {
     RenderStats local;
-    HW_TRY(draw(camera, local));
+    const NearFilter filter{NearFilter::Exclude, &camera.eye, 1, options_.keyframeExcludeNear};
+    HW_TRY(draw(camera, local, options_.keyframeExcludeNear > 0 ? &filter : nullptr));
     Stopwatch sw;
     fbo_.readColour(out.colour);
     fbo_.readDepth(camera.nearPlane, camera.farPlane, out.zPrime, out.eyeZ, out.covered);
@@ -190,6 +191,20 @@ class GlGeometryRenderer final : public GeometryRenderer {
     local.readbackMs = sw.ms();
     if (stats) *stats = local;
     return gl::checkGlError("GeometryRenderer::renderColour");
+  }
+
+  Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount, double distance,
+                    Image<Rgba8>& colour, Image<float>& eyeZ, Image<std::uint8_t>& covered,
+                    RenderStats* stats) override {
+    RenderStats local;
+    const NearFilter filter{NearFilter::Only, eyes, eyeCount, distance};
+    HW_TRY(draw(camera, local, &filter));
+    Stopwatch sw;
+    fbo_.readColour(colour);
+    fbo_.readDepth(camera.nearPlane, camera.farPlane, nearZPrime_, eyeZ, covered);
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderNear");
   }
 
   std::size_t sceneTriangles() const override { return triangles_; }
@@ -218,7 +233,26 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return false;
   }
 
-  Status draw(const Camera& camera, RenderStats& stats) {
+  struct NearFilter {
+    enum Mode { Exclude, Only } mode;
+    const glm::dvec3* eyes;
+    int eyeCount;
+    double distance;
+    // Whether the mesh bounds [lo, hi] come within `distance` of an eye.
+    bool near(const glm::vec3& lo, const glm::vec3& hi) const {
+      for (int k = 0; k < eyeCount; ++k) {
+        const glm::dvec3 e = eyes[k];
+        const glm::dvec3 d = glm::max(glm::max(glm::dvec3(lo) - e, e - glm::dvec3(hi)), glm::dvec3(0.0));
+        if (glm::dot(d, d) < distance * distance) return true;
+      }
+      return false;
+    }
+    bool skip(const glm::vec3& lo, const glm::vec3& hi) const {
+      return near(lo, hi) == (mode == Exclude);
+    }
+  };
+
+  Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr) {
     HW_TRY(ensureFbo(camera.width, camera.height));
     Stopwatch sw;
     fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
@@ -243,6 +277,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
     int bound = -1;
     for (const DrawItem& d : items_) {
       if (options_.frustumCulling && aabbOutside(planes, d.lo, d.hi)) continue;
+      if (filter && filter->skip(d.lo, d.hi)) continue;
       if (d.material != bound) {
         const scenes::Material& m = materials_[static_cast<std::size_t>(d.material)];
         const bool hasTex = m.texture >= 0 && m.texture < static_cast<int>(textures_.size());
@@ -282,6 +317,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
   std::vector<GLuint> textures_;
   std::vector<DrawItem> items_;
   gl::Framebuffer fbo_;
+  Image<double> nearZPrime_;  // renderNear's scratch
 };
 
 }  // namespace

@@ -218,7 +218,7 @@ class GlWarper final : public Warper {
                   const Camera& target, Layer& out, bool skipBackgroundWhenCovered,
                   PairStats* stats) override {
     const auto& fg = static_cast<const GlWarpSource&>(foreground);
-    HW_TRY(ensureTarget(target, false, true, pairFbo_));
+    HW_TRY(ensureTarget(target, options_.writeEyeZ, true, pairFbo_));
     Stopwatch sw;
     pairFbo_.bindAndClear(0, 0, 0, 0);
     // Foreground: every pixel it writes (quads or sky) gets stencil 1.
@@ -257,7 +257,8 @@ class GlWarper final : public Warper {
     glFinish();
     const double bgMs = sw.lap();
     pairFbo_.readColour(out.colour);
-    out.eyeZ.resize(0, 0);
+    if (options_.writeEyeZ) pairFbo_.readFloatChannel(out.eyeZ);
+    else out.eyeZ.resize(0, 0);
     if (out.coverage.width() != target.width || out.coverage.height() != target.height)
       out.coverage.resize(target.width, target.height);
     const std::size_t n = out.colour.size();
