@@ -326,17 +326,25 @@ int main(int argc, char** argv) {
   // bench
   std::string benchOut = "out/bench", benchSizes;
   bool benchQuick = false, benchQuiet = false;
+  std::vector<std::string> benchOnly;
   auto* benchCmd = app.add_subcommand(
       "bench", "Frame-timing benchmark: geometry vs in-between ms over scene sizes 100k..4M "
-               "triangles (tau 2^11, 2^15), a walkthrough trace with per-stage ms, and PSNR vs "
-               "keyframe spacing; writes bench.json, CSVs, plots and index.html");
+               "triangles (tau 2^11, 2^15), a walkthrough trace with per-stage ms, PSNR vs "
+               "keyframe spacing, and each skip on and off; writes bench.json, CSVs, plots and "
+               "index.html");
   benchCmd->add_option("--out", benchOut, "Output directory")->capture_default_str();
   benchCmd->add_option("--sizes", benchSizes,
                        "Comma-separated triangle counts for the complexity part (k/M suffixes), "
                        "default 100k,300k,1M,2M,4M");
   benchCmd->add_flag("--quick", benchQuick,
-                     "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings");
+                     "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings, skips on indoor only (11 frames)");
   benchCmd->add_flag("--quiet", benchQuiet, "No progress lines");
+  benchCmd->add_option("--only", benchOnly,
+                       "Run only these parts (comma-separated): complexity, trace, spacing, skips "
+                       "(skips = issue #8's table: each skip on and off on indoor, outdoor, "
+                       "q3:oa_dm5 and torcs:forza; real scenes need 'scenes fetch --outdoor')")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips"}));
 
   // export-keyframes
   Common exportC;
@@ -520,7 +528,10 @@ int main(int argc, char** argv) {
       bo.renderFrames = 6;
       bo.walkFrames = 21;
       bo.traceTriangles = 100000;
+      bo.skips.frames = 11;
+      bo.skips.scenes = {{"indoor", ""}};
     }
+    bo.parts = benchOnly;
     if (!benchSizes.empty()) {
       bo.sizes.clear();
       std::size_t start = 0;

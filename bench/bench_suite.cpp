@@ -1,10 +1,12 @@
 #include "bench/bench_suite.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "bench/html_report.h"
 #include "bench/plot.h"
+#include "bench/skip_study.h"
 #include "bench/walk.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -48,198 +50,228 @@ void say(bool on, const char* fmtStr, const std::string& a) {
 }  // namespace
 
 Result<json> runBenchSuite(const BenchOptions& opt) {
+  for (const std::string& p : opt.parts)
+    if (p != "complexity" && p != "trace" && p != "spacing" && p != "skips")
+      return makeError("bench: unknown part '" + p +
+                       "': expected complexity, trace, spacing or skips");
+  auto want = [&](const char* part) {
+    return opt.parts.empty() || std::find(opt.parts.begin(), opt.parts.end(), part) != opt.parts.end();
+  };
   HW_TRY(ensureWritableDir(opt.outDir));
   Stopwatch all;
   const json machine = machineInfo(opt.glRenderer, opt.glVersion);
 
-  // (a) Complexity.
   json complexity = json::array();
   std::string csvA = "scene,triangles,tau,geometry_median_ms,geometry_p95_ms,in_between_median_ms,"
                      "in_between_p95_ms,reference_median_ms,psnr_median,quads_per_keyframe\n";
-  for (const std::string name : {"indoor", "outdoor"}) {
-    for (std::size_t target : opt.sizes) {
-      say(opt.progress, "bench: complexity %s\n", name + " " + sizeLabel(target));
-      const scenes::Scene scene = makeScene(name, target);
-      const scenes::CameraPath path = pathFor(name);
-      std::vector<double> ms;
-      {
-        auto r = keyframe::GeometryRenderer::create(scene);
-        if (!r) return r.error();
-        Image<Rgba8> img;
-        for (int k = 0; k < opt.renderFrames; ++k) {
-          keyframe::RenderStats st;
-          const int f = k * (path.frames - 1) / std::max(1, opt.renderFrames - 1);
-          HW_TRY((*r)->renderColour(path.cameraAt(f), img, &st));
-          if (k > 0) ms.push_back(st.drawMs + st.readbackMs);
-        }
-      }
-      for (double tau : opt.taus) {
-        WalkOptions w;
-        w.lod.tau = tau;
-        w.maxFrames = opt.walkFrames;
-        w.progress = false;
-        w.strips = 0;
-        w.glRenderer = opt.glRenderer;
-        w.glVersion = opt.glVersion;
-        auto res = runWalk(scene, name, path, w);
-        if (!res) return res.error();
-        const json& s = res->report["summary"];
-        json row = {{"scene", name},
-                    {"target_triangles", target},
-                    {"triangles", scene.triangleCount()},
-                    {"tau", tau},
-                    {"geometry_ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
-                    {"in_between_ms", s["in_between_ms"]},
-                    {"reference_ms", s["reference_ms"]},
-                    {"psnr", s["psnr"]},
-                    {"quads_per_keyframe", s["quads_per_keyframe"]},
-                    {"speedup", s["speedup_reference_over_in_between"]}};
-        complexity.push_back(row);
-        csvA += name + "," + std::to_string(scene.triangleCount()) + "," + fmt(tau, 0) + "," +
-                fmt(median(ms)) + "," + fmt(percentile(ms, 95)) + "," +
-                fmt(num(s["in_between_ms"]["median"])) + "," + fmt(num(s["in_between_ms"]["p95"])) +
-                "," + fmt(num(s["reference_ms"]["median"])) + "," + fmt(num(s["psnr"]["median"])) +
-                "," + fmt(num(s["quads_per_keyframe"]["median"]), 0) + "\n";
-      }
-    }
-  }
-  {
-    std::vector<Series> series;
+  if (want("complexity")) {
+    // (a) Complexity.
     for (const std::string name : {"indoor", "outdoor"}) {
-      Series g;
-      g.label = "geometry, " + name;
-      for (const json& r : complexity)
-        if (r["scene"] == name && r["tau"].get<double>() == opt.taus.front()) {
-          g.x.push_back(num(r["triangles"]));
-          g.y.push_back(num(r["geometry_ms"]["median"]));
-        }
-      series.push_back(g);
-      for (double tau : opt.taus) {
-        Series h;
-        h.label = "in-between, " + name + ", tau " + tauLabel(tau);
-        for (const json& r : complexity)
-          if (r["scene"] == name && r["tau"].get<double>() == tau) {
-            h.x.push_back(num(r["triangles"]));
-            h.y.push_back(num(r["in_between_ms"]["median"]));
+      for (std::size_t target : opt.sizes) {
+        say(opt.progress, "bench: complexity %s\n", name + " " + sizeLabel(target));
+        const scenes::Scene scene = makeScene(name, target);
+        const scenes::CameraPath path = pathFor(name);
+        std::vector<double> ms;
+        {
+          auto r = keyframe::GeometryRenderer::create(scene);
+          if (!r) return r.error();
+          Image<Rgba8> img;
+          for (int k = 0; k < opt.renderFrames; ++k) {
+            keyframe::RenderStats st;
+            const int f = k * (path.frames - 1) / std::max(1, opt.renderFrames - 1);
+            HW_TRY((*r)->renderColour(path.cameraAt(f), img, &st));
+            if (k > 0) ms.push_back(st.drawMs + st.readbackMs);
           }
-        series.push_back(h);
+        }
+        for (double tau : opt.taus) {
+          WalkOptions w;
+          w.lod.tau = tau;
+          w.maxFrames = opt.walkFrames;
+          w.progress = false;
+          w.strips = 0;
+          w.glRenderer = opt.glRenderer;
+          w.glVersion = opt.glVersion;
+          auto res = runWalk(scene, name, path, w);
+          if (!res) return res.error();
+          const json& s = res->report["summary"];
+          json row = {{"scene", name},
+                      {"target_triangles", target},
+                      {"triangles", scene.triangleCount()},
+                      {"tau", tau},
+                      {"geometry_ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
+                      {"in_between_ms", s["in_between_ms"]},
+                      {"reference_ms", s["reference_ms"]},
+                      {"psnr", s["psnr"]},
+                      {"quads_per_keyframe", s["quads_per_keyframe"]},
+                      {"speedup", s["speedup_reference_over_in_between"]}};
+          complexity.push_back(row);
+          csvA += name + "," + std::to_string(scene.triangleCount()) + "," + fmt(tau, 0) + "," +
+                  fmt(median(ms)) + "," + fmt(percentile(ms, 95)) + "," +
+                  fmt(num(s["in_between_ms"]["median"])) + "," + fmt(num(s["in_between_ms"]["p95"])) +
+                  "," + fmt(num(s["reference_ms"]["median"])) + "," + fmt(num(s["psnr"]["median"])) +
+                  "," + fmt(num(s["quads_per_keyframe"]["median"]), 0) + "\n";
+        }
       }
     }
-    PlotOptions po;
-    po.title = "Frame time vs scene complexity (512x512, median)";
-    po.xLabel = "triangles";
-    po.yLabel = "ms per frame";
-    po.logX = po.logY = true;
-    po.width = 900;
-    po.height = 560;
-    HW_TRY(writePlot(opt.outDir + "/complexity.png", series, po));
-  }
+    {
+      std::vector<Series> series;
+      for (const std::string name : {"indoor", "outdoor"}) {
+        Series g;
+        g.label = "geometry, " + name;
+        for (const json& r : complexity)
+          if (r["scene"] == name && r["tau"].get<double>() == opt.taus.front()) {
+            g.x.push_back(num(r["triangles"]));
+            g.y.push_back(num(r["geometry_ms"]["median"]));
+          }
+        series.push_back(g);
+        for (double tau : opt.taus) {
+          Series h;
+          h.label = "in-between, " + name + ", tau " + tauLabel(tau);
+          for (const json& r : complexity)
+            if (r["scene"] == name && r["tau"].get<double>() == tau) {
+              h.x.push_back(num(r["triangles"]));
+              h.y.push_back(num(r["in_between_ms"]["median"]));
+            }
+          series.push_back(h);
+        }
+      }
+      PlotOptions po;
+      po.title = "Frame time vs scene complexity (512x512, median)";
+      po.xLabel = "triangles";
+      po.yLabel = "ms per frame";
+      po.logX = po.logY = true;
+      po.width = 900;
+      po.height = 560;
+      HW_TRY(writePlot(opt.outDir + "/complexity.png", series, po));
+    }
 
-  // (b) Walkthrough trace and (c) keyframe spacing, on the trace scene at 1M.
-  const std::size_t traceTris = opt.traceTriangles;
-  say(opt.progress, "bench: walkthrough trace %s\n", opt.traceScene + " " + sizeLabel(traceTris));
-  const scenes::Scene traceScene = makeScene(opt.traceScene, traceTris);
-  const scenes::CameraPath tracePath = pathFor(opt.traceScene);
+}
+
   json trace;
   std::string csvB = "frame,is_keyframe,total_ms,reference_ms,warp_a_ms,warp_b_ms,compose_ms,psnr\n";
-  {
-    WalkOptions w;
-    w.progress = opt.progress;
-    w.strips = 0;
-    w.glRenderer = opt.glRenderer;
-    w.glVersion = opt.glVersion;
-    auto res = runWalk(traceScene, opt.traceScene, tracePath, w);
-    if (!res) return res.error();
-    Series total, keyframes, reference, warpA, warpB, comp;
-    total.label = "in-between total";
-    keyframes.label = "keyframe frames (render + LOD + upload)";
-    keyframes.lines = false;
-    reference.label = "geometry reference";
-    warpA.label = "warp A (draw + readback)";
-    warpB.label = "warp B";
-    comp.label = "compose";
-    for (const json& f : res->report["frames"]) {
-      const double i = num(f["index"]);
-      const bool isKey = f["is_keyframe"].get<bool>();
-      (isKey ? keyframes : total).x.push_back(i);
-      (isKey ? keyframes : total).y.push_back(num(f["ms"]["total"]));
-      reference.x.push_back(i);
-      reference.y.push_back(num(f["reference_ms"]));
-      if (!isKey) {
-        warpA.x.push_back(i);
-        warpA.y.push_back(num(f["ms"]["warp_a"]));
-        warpB.x.push_back(i);
-        warpB.y.push_back(num(f["ms"]["warp_b"]));
-        comp.x.push_back(i);
-        comp.y.push_back(num(f["ms"]["compose"]));
-      }
-      csvB += std::to_string(int(i)) + "," + (isKey ? "1" : "0") + "," + fmt(num(f["ms"]["total"]), 3) +
-              "," + fmt(num(f["reference_ms"]), 3) + "," +
-              (isKey ? "" : fmt(num(f["ms"]["warp_a"]), 3)) + "," +
-              (isKey ? "" : fmt(num(f["ms"]["warp_b"]), 3)) + "," +
-              (isKey ? "" : fmt(num(f["ms"]["compose"]), 3)) + "," + fmt(num(f["psnr"])) + "\n";
-    }
-    PlotOptions po;
-    po.title = "Walkthrough trace: " + opt.traceScene + " " + sizeLabel(traceTris) + ", tau 2^11";
-    po.xLabel = "frame";
-    po.yLabel = "ms";
-    po.logY = true;
-    po.width = 1000;
-    po.height = 520;
-    HW_TRY(writePlot(opt.outDir + "/trace.png", {reference, keyframes, total, warpA, warpB, comp}, po));
-    trace = res->report["summary"];
-  }
-
-  say(opt.progress, "bench: keyframe spacing %s\n", opt.traceScene);
   json spacing = json::array();
   std::string csvC = "keyframe_every,keyframes,psnr_median,psnr_p5,ssim_median,holes_before_median,"
                      "in_between_ms_median\n";
-  Series psnrMed, psnrP5;
-  psnrMed.label = "PSNR median";
-  psnrP5.label = "PSNR 5th percentile";
-  for (int every : opt.keyframeSpacings) {
-    scenes::CameraPath p = tracePath;
-    p.keyframeEvery = every;
-    WalkOptions w;
-    w.progress = false;
-    w.strips = 0;
-    w.glRenderer = opt.glRenderer;
-    w.glVersion = opt.glVersion;
-    auto res = runWalk(traceScene, opt.traceScene, p, w);
-    if (!res) return res.error();
-    const json& s = res->report["summary"];
-    spacing.push_back({{"keyframe_every", every}, {"keyframes", s["keyframes"]}, {"psnr", s["psnr"]},
-                       {"ssim", s["ssim"]}, {"holes_before_fallback", s["holes_before_fallback"]},
-                       {"in_between_ms", s["in_between_ms"]}});
-    psnrMed.x.push_back(every);
-    psnrMed.y.push_back(num(s["psnr"]["median"]));
-    psnrP5.x.push_back(every);
-    psnrP5.y.push_back(num(s["psnr"]["p5"]));
-    csvC += std::to_string(every) + "," + std::to_string(s["keyframes"].get<int>()) + "," +
-            fmt(num(s["psnr"]["median"])) + "," + fmt(num(s["psnr"]["p5"])) + "," +
-            fmt(num(s["ssim"]["median"]), 4) + "," + fmt(num(s["holes_before_fallback"]["median"]), 5) +
-            "," + fmt(num(s["in_between_ms"]["median"])) + "\n";
-  }
-  {
-    PlotOptions po;
-    po.title = "Quality vs keyframe spacing: " + opt.traceScene + " " + sizeLabel(traceTris) + ", tau 2^11";
-    po.xLabel = "keyframe_every (frames)";
-    po.yLabel = "in-between PSNR (dB)";
-    HW_TRY(writePlot(opt.outDir + "/spacing.png", {psnrMed, psnrP5}, po));
+  if (want("trace") || want("spacing")) {
+    // (b) Walkthrough trace and (c) keyframe spacing, on the trace scene at 1M.
+    const std::size_t traceTris = opt.traceTriangles;
+    say(opt.progress, "bench: walkthrough trace %s\n", opt.traceScene + " " + sizeLabel(traceTris));
+    const scenes::Scene traceScene = makeScene(opt.traceScene, traceTris);
+    const scenes::CameraPath tracePath = pathFor(opt.traceScene);
+    {
+      WalkOptions w;
+      w.progress = opt.progress;
+      w.strips = 0;
+      w.glRenderer = opt.glRenderer;
+      w.glVersion = opt.glVersion;
+      auto res = runWalk(traceScene, opt.traceScene, tracePath, w);
+      if (!res) return res.error();
+      Series total, keyframes, reference, warpA, warpB, comp;
+      total.label = "in-between total";
+      keyframes.label = "keyframe frames (render + LOD + upload)";
+      keyframes.lines = false;
+      reference.label = "geometry reference";
+      warpA.label = "warp A (draw + readback)";
+      warpB.label = "warp B";
+      comp.label = "compose";
+      for (const json& f : res->report["frames"]) {
+        const double i = num(f["index"]);
+        const bool isKey = f["is_keyframe"].get<bool>();
+        (isKey ? keyframes : total).x.push_back(i);
+        (isKey ? keyframes : total).y.push_back(num(f["ms"]["total"]));
+        reference.x.push_back(i);
+        reference.y.push_back(num(f["reference_ms"]));
+        if (!isKey) {
+          warpA.x.push_back(i);
+          warpA.y.push_back(num(f["ms"]["warp_a"]));
+          warpB.x.push_back(i);
+          warpB.y.push_back(num(f["ms"]["warp_b"]));
+          comp.x.push_back(i);
+          comp.y.push_back(num(f["ms"]["compose"]));
+        }
+        csvB += std::to_string(int(i)) + "," + (isKey ? "1" : "0") + "," + fmt(num(f["ms"]["total"]), 3) +
+                "," + fmt(num(f["reference_ms"]), 3) + "," +
+                (isKey ? "" : fmt(num(f["ms"]["warp_a"]), 3)) + "," +
+                (isKey ? "" : fmt(num(f["ms"]["warp_b"]), 3)) + "," +
+                (isKey ? "" : fmt(num(f["ms"]["compose"]), 3)) + "," + fmt(num(f["psnr"])) + "\n";
+      }
+      PlotOptions po;
+      po.title = "Walkthrough trace: " + opt.traceScene + " " + sizeLabel(traceTris) + ", tau 2^11";
+      po.xLabel = "frame";
+      po.yLabel = "ms";
+      po.logY = true;
+      po.width = 1000;
+      po.height = 520;
+      HW_TRY(writePlot(opt.outDir + "/trace.png", {reference, keyframes, total, warpA, warpB, comp}, po));
+      trace = res->report["summary"];
+    }
+
+    say(opt.progress, "bench: keyframe spacing %s\n", opt.traceScene);
+    Series psnrMed, psnrP5;
+    psnrMed.label = "PSNR median";
+    psnrP5.label = "PSNR 5th percentile";
+    for (int every : opt.keyframeSpacings) {
+      scenes::CameraPath p = tracePath;
+      p.keyframeEvery = every;
+      WalkOptions w;
+      w.progress = false;
+      w.strips = 0;
+      w.glRenderer = opt.glRenderer;
+      w.glVersion = opt.glVersion;
+      auto res = runWalk(traceScene, opt.traceScene, p, w);
+      if (!res) return res.error();
+      const json& s = res->report["summary"];
+      spacing.push_back({{"keyframe_every", every}, {"keyframes", s["keyframes"]}, {"psnr", s["psnr"]},
+                         {"ssim", s["ssim"]}, {"holes_before_fallback", s["holes_before_fallback"]},
+                         {"in_between_ms", s["in_between_ms"]}});
+      psnrMed.x.push_back(every);
+      psnrMed.y.push_back(num(s["psnr"]["median"]));
+      psnrP5.x.push_back(every);
+      psnrP5.y.push_back(num(s["psnr"]["p5"]));
+      csvC += std::to_string(every) + "," + std::to_string(s["keyframes"].get<int>()) + "," +
+              fmt(num(s["psnr"]["median"])) + "," + fmt(num(s["psnr"]["p5"])) + "," +
+              fmt(num(s["ssim"]["median"]), 4) + "," + fmt(num(s["holes_before_fallback"]["median"]), 5) +
+              "," + fmt(num(s["in_between_ms"]["median"])) + "\n";
+    }
+    {
+      PlotOptions po;
+      po.title = "Quality vs keyframe spacing: " + opt.traceScene + " " + sizeLabel(traceTris) + ", tau 2^11";
+      po.xLabel = "keyframe_every (frames)";
+      po.yLabel = "in-between PSNR (dB)";
+      HW_TRY(writePlot(opt.outDir + "/spacing.png", {psnrMed, psnrP5}, po));
+    }
+
+}
+
+  // (d) Skips (issue #8): each on and off.
+  json skips;
+  if (want("skips")) {
+    SkipStudyOptions so = opt.skips;
+    so.progress = opt.progress;
+    so.glRenderer = opt.glRenderer;
+    so.glVersion = opt.glVersion;
+    auto st = runSkipStudy(so);
+    if (!st) return st.error();
+    skips = std::move(*st);
   }
 
   json doc = {{"resolution", {512, 512}},
               {"complexity", complexity},
               {"trace", trace},
               {"spacing", spacing},
+              {"skips", skips},
+              {"parts", opt.parts},
               {"machine", machine},
               {"elapsed_s", all.ms() / 1000.0},
               {"note", "wall-clock ms on a shared 2-vCPU VM with llvmpipe; figures move by tens of "
                        "percent between runs (NOTES-GL.md); ratios within one run are steadier"}};
   HW_TRY(writeFileAtomic(opt.outDir + "/bench.json", doc.dump(1)));
-  HW_TRY(writeFileAtomic(opt.outDir + "/complexity.csv", csvA));
-  HW_TRY(writeFileAtomic(opt.outDir + "/trace.csv", csvB));
-  HW_TRY(writeFileAtomic(opt.outDir + "/spacing.csv", csvC));
+  if (want("complexity")) HW_TRY(writeFileAtomic(opt.outDir + "/complexity.csv", csvA));
+  if (want("trace") || want("spacing")) {
+    HW_TRY(writeFileAtomic(opt.outDir + "/trace.csv", csvB));
+    HW_TRY(writeFileAtomic(opt.outDir + "/spacing.csv", csvC));
+  }
+  if (want("skips")) HW_TRY(writeFileAtomic(opt.outDir + "/skips.csv", skipStudyCsv(skips)));
 
   HtmlReport page("hybridwalk frame-timing benchmark");
   page.paragraph("Machine: " + machine["cpu"].get<std::string>() + ", " +
@@ -247,6 +279,7 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
                  " (" + opt.glVersion + "), LP_NUM_THREADS=" + machine["lp_num_threads"].get<std::string>() +
                  ", build " + machine["build_type"].get<std::string>() + ", commit " +
                  machine["git_commit"].get<std::string>() + ". 512x512. " + doc["note"].get<std::string>() + ".");
+  if (want("complexity")) {
   page.heading("(a) Scene complexity");
   page.paragraph("Geometry renderer (VBOs, frustum culling, material-sorted) against the in-between "
                  "frame (two warped layers + composition), medians over the built-in paths.");
@@ -261,6 +294,8 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
   page.table({"scene", "triangles", "tau", "geometry ms", "in-between ms", "in-between p95",
               "speedup", "PSNR dB", "quads/keyframe"},
              rowsA);
+  }
+  if (want("trace") || want("spacing")) {
   page.heading("(b) Walkthrough trace");
   page.images({"trace.png"});
   page.paragraph("In-between ms median " + fmt(num(trace["in_between_ms"]["median"])) + ", p95 " +
@@ -278,6 +313,28 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
                      fmt(num(r["in_between_ms"]["median"]))});
   page.table({"keyframe_every", "keyframes", "PSNR median", "PSNR p5", "SSIM", "holes %", "in-between ms"},
              rowsC);
+  }
+  if (want("skips")) {
+    page.heading("(d) Skips: each stage only when the frame needs it (issue #8)");
+    page.paragraph("The same walk (tau 2^11, region-local planarity, strip merging, " +
+                   std::to_string(opt.skips.frames) + " frames) with each skip on and off; " +
+                   "'fired' = in-between frames where the skip applied. In-between ms and PSNR "
+                   "medians (PSNR 5th percentile in brackets).");
+    std::vector<std::vector<std::string>> rowsD;
+    for (const json& r : skips["rows"])
+      rowsD.push_back({r["scene"].get<std::string>(), r["skip"].get<std::string>(),
+                       r["default"].get<std::string>(),
+                       r.contains("fired_frames") ? std::to_string(r["fired_frames"].get<int>()) + "/" +
+                                                        std::to_string(r["in_between_frames"].get<int>())
+                                                  : "",
+                       fmt(num(r["on"]["in_between_ms_median"])), fmt(num(r["off"]["in_between_ms_median"])),
+                       fmt(num(r["on"]["psnr_median"])) + " (" + fmt(num(r["on"]["psnr_p5"])) + ")",
+                       fmt(num(r["off"]["psnr_median"])) + " (" + fmt(num(r["off"]["psnr_p5"])) + ")"});
+    page.table({"scene", "skip", "default", "fired", "ms on", "ms off", "PSNR on", "PSNR off"}, rowsD);
+    for (const json& u : skips["unavailable"])
+      page.paragraph("Not measured: " + u["scene"].get<std::string>() + " (" +
+                     u["reason"].get<std::string>() + ")");
+  }
   HW_TRY(page.write(opt.outDir + "/index.html"));
   return doc;
 }

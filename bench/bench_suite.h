@@ -3,13 +3,14 @@
 // geometry ms vs in-between ms of the built-in scenes from 100k to 4M
 // triangles at the paper's two thresholds; (b) a walkthrough trace — per-frame
 // and per-stage ms with keyframes marked; (c) keyframe spacing — PSNR vs
-// keyframe_every. Writes bench.json, CSVs, PNG plots and index.html.
+// keyframe_every; (d) each skip of issue #8 on and off. Writes bench.json, CSVs, PNG plots and index.html.
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/skip_study.h"
 #include "core/result.h"
 
 namespace hw::bench {
@@ -23,6 +24,10 @@ struct BenchOptions {
   int walkFrames = 41;    // frames per walk in the complexity part
   std::string traceScene = "indoor";  // built-in scene for the trace and spacing parts
   std::size_t traceTriangles = 1000000;
+  SkipStudyOptions skips;  // part (d)
+  // Parts to run: complexity, trace, spacing (trace and spacing run
+  // together), skips; empty = all.
+  std::vector<std::string> parts;
   bool progress = true;
   std::string glRenderer, glVersion;
 };

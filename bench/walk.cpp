@@ -111,6 +111,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   }
   bool firstFrameWritten = false;
   int backgroundSkips = 0, previousSkips = 0;
+  std::vector<double> foregroundUncovered;  // pixels the foreground layer left empty
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames, "walk");
@@ -246,6 +247,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       Stopwatch total;
       const bool fused = opt.fusedLayers && opt.compose.mode == gapfill::ComposeMode::Overlay;
       bool bgSkipped = false, prevSkipped = false;
+      int fgUncovered = 0;
       int quadsDrawn = 0;
       double composeT = 0;
       if (fused) {
@@ -253,6 +255,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
         HW_TRY(warper.warpPair(*sources[fgFrame], sources[bgFrame].get(), cam, layerA,
                                opt.skipBackground, &ps));
         bgSkipped = !ps.backgroundDrawn;
+        fgUncovered = ps.uncoveredByForeground;
         Stopwatch sc;
         if (ps.uncovered == 0 && opt.skipPrevious) {
           // Nothing to fill: the layer image is the frame (buffers swapped, no copy).
@@ -282,6 +285,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
         warp::WarpStats wa, wb;
         HW_TRY(warper.warp(*sources[fgFrame], cam, layerA, &wa));
         bgSkipped = opt.skipBackground && wa.uncovered == 0;
+        fgUncovered = wa.uncovered;
         if (!bgSkipped) HW_TRY(warper.warp(*sources[bgFrame], cam, layerB, &wb));
         Stopwatch sc;
         gapfill::compose(layerA, bgSkipped ? nullptr : &layerB,
@@ -312,6 +316,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       fj["foreground"] = fgFrame;
       fj["quads"] = quadsDrawn;
       fj["skipped"] = {{"background", bgSkipped}, {"previous_frame", prevSkipped}};
+      fj["foreground_uncovered_pixels"] = fgUncovered;
+      foregroundUncovered.push_back(fgUncovered);
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
       holesBefore.push_back(frame.holeFractionBefore);
@@ -394,6 +400,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["skip_background"] = opt.skipBackground;
   summary["skip_previous_frame"] = opt.skipPrevious;
   summary["background_layer_skipped_frames"] = backgroundSkips;
+  summary["foreground_uncovered_pixels"] = stats(foregroundUncovered);
   summary["previous_frame_pass_skipped_frames"] = previousSkips;
   summary["psnr"] = stats(psnrs);
   summary["ssim"] = stats(ssims);

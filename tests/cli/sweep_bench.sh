@@ -27,6 +27,13 @@ check "bench.json" grep -q '"complexity"' "$tmp/b/bench.json"
 for p in complexity trace spacing; do check "$p.png" is_png "$tmp/b/$p.png"; done
 check "complexity.csv rows" test "$(($(wc -l <"$tmp/b/complexity.csv") - 1))" -eq 8
 check "index.html" grep -q 'Keyframe spacing' "$tmp/b/index.html"
+# (d) the skip table: 5 skips on indoor; the lossless ones leave PSNR unchanged,
+# the sky and near-object rows are the only ones allowed to change it.
+check "skips.csv has 5 rows" test "$(($(wc -l <"$tmp/b/skips.csv") - 1))" -eq 5
+check "lossless skips keep PSNR" awk -F, 'NR > 1 && $3 ~ /fused|background|previous/ && $11 != $12 { bad = 1 } END { exit bad }' "$tmp/b/skips.csv"
+check "index.html has the skip table" grep -q 'Skips' "$tmp/b/index.html"
+"$hw" bench --only skips,nonsense --out "$tmp/bad3" >/dev/null 2>"$tmp/err"
+check "bench --only unknown part refused" test $? -eq 2
 
 "$hw" sweep --tau 2^x --out "$tmp/bad" --quiet >/dev/null 2>"$tmp/err"
 check "sweep bad tau refused" test $? -ne 0

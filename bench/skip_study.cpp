@@ -1,0 +1,131 @@
+#include "bench/skip_study.h"
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "bench/html_report.h"
+#include "bench/walk.h"
+#include "core/timer.h"
+#include "scenes/camera_path.h"
+#include "scenes/loader.h"
+
+namespace hw::bench {
+namespace {
+
+using nlohmann::json;
+
+double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+
+struct Skip {
+  const char* name;
+  const char* what;
+  bool onByDefault;                          // the walk's default state
+  std::function<void(WalkOptions&)> toggle;  // flips it away from the default
+  const char* firedField;                    // summary count of frames it fired on, or ""
+};
+
+json measure(const json& s) {
+  return {{"in_between_ms_median", s["in_between_ms"]["median"]},
+          {"in_between_ms_p95", s["in_between_ms"]["p95"]},
+          {"psnr_median", s["psnr"]["median"]},
+          {"psnr_p5", s["psnr"]["p5"]},
+          {"holes_before_fallback_median", s["holes_before_fallback"]["median"]}};
+}
+
+}  // namespace
+
+Result<json> runSkipStudy(const SkipStudyOptions& opt) {
+  const double nearD = opt.nearDistance;
+  const std::vector<Skip> skips = {
+      {"fused layers", "both layers in one target, background only where the foreground left holes",
+       true, [](WalkOptions& w) { w.fusedLayers = false; }, ""},
+      {"background skip", "no background layer when the coverage test finds no empty pixel", true,
+       [](WalkOptions& w) { w.skipBackground = false; }, "background_layer_skipped_frames"},
+      {"previous-frame skip", "no previous-frame pass when there are no holes", true,
+       [](WalkOptions& w) { w.skipPrevious = false; }, "previous_frame_pass_skipped_frames"},
+      {"sky at infinity", "empty keyframe pixels drawn as rectangles at infinity, not left as holes",
+       true, [](WalkOptions& w) { w.warp.skyBackdrop = false; }, ""},
+      {"near objects direct", "meshes within the near distance of a keyframe eye drawn as geometry",
+       false, [nearD](WalkOptions& w) { w.nearDistance = nearD; }, ""},
+  };
+  json rows = json::array(), unavailable = json::array();
+  for (const SkipScene& sc : opt.scenes) {
+    auto scene = scenes::loadScene(sc.spec);
+    Result<scenes::CameraPath> path = sc.pathFile.empty() ? scenes::defaultPathFor(sc.spec)
+                                                          : scenes::loadCameraPath(sc.pathFile);
+    if (!scene || !path) {
+      const std::string why = !scene ? scene.error().message : path.error().message;
+      std::fprintf(stderr, "hybridwalk: warning: skip table: %s left out: %s\n", sc.spec.c_str(),
+                   why.c_str());
+      unavailable.push_back({{"scene", sc.spec}, {"reason", why}});
+      continue;
+    }
+    auto walk = [&](const std::function<void(WalkOptions&)>& change) -> Result<json> {
+      WalkOptions w;
+      w.lod.tau = 2048;
+      w.lod.planarity = keyframe::Planarity::RegionLocal;
+      w.lod.mergeStrips = true;
+      w.maxFrames = opt.frames;
+      w.progress = false;
+      w.strips = 0;
+      w.keepFrames = false;
+      w.glRenderer = opt.glRenderer;
+      w.glVersion = opt.glVersion;
+      if (change) change(w);
+      auto r = runWalk(*scene, sc.spec, *path, w);
+      if (!r) return r.error();
+      return r->report["summary"];
+    };
+    if (opt.progress) std::fprintf(stderr, "bench: skips on %s\n", sc.spec.c_str());
+    auto base = walk(nullptr);
+    if (!base) return base.error();
+    for (const Skip& k : skips) {
+      auto other = walk(k.toggle);
+      if (!other) return other.error();
+      const json& on = k.onByDefault ? *base : *other;
+      const json& off = k.onByDefault ? *other : *base;
+      json row = {{"scene", sc.spec},
+                  {"triangles", (*base)["scene"]["triangles"]},
+                  {"skip", k.name},
+                  {"what", k.what},
+                  {"default", k.onByDefault ? "on" : "off"},
+                  {"on", measure(on)},
+                  {"off", measure(off)},
+                  {"in_between_frames", on["in_between_frames"]}};
+      if (*k.firedField) row["fired_frames"] = on[k.firedField];
+      if (std::string(k.name) == "near objects direct") {
+        row["near_distance"] = nearD;
+        row["near_geometry_ms_median"] = on["near_geometry_ms"]["median"];
+      }
+      rows.push_back(row);
+    }
+  }
+  return json{{"rows", rows},
+              {"unavailable", unavailable},
+              {"settings",
+               {{"frames", opt.frames},
+                {"tau", 2048},
+                {"planarity", "region-local"},
+                {"merge_strips", true},
+                {"near_distance", nearD}}}};
+}
+
+std::string skipStudyCsv(const json& study) {
+  std::string csv =
+      "scene,triangles,skip,default,fired_frames,in_between_frames,ms_on_median,ms_off_median,"
+      "ms_on_p95,ms_off_p95,psnr_on_median,psnr_off_median,psnr_on_p5,psnr_off_p5\n";
+  for (const json& r : study["rows"]) {
+    csv += r["scene"].get<std::string>() + "," + std::to_string(r["triangles"].get<std::size_t>()) +
+           "," + r["skip"].get<std::string>() + "," + r["default"].get<std::string>() + "," +
+           (r.contains("fired_frames") ? std::to_string(r["fired_frames"].get<int>()) : "") + "," +
+           std::to_string(r["in_between_frames"].get<int>()) + "," +
+           fmt(num(r["on"]["in_between_ms_median"])) + "," + fmt(num(r["off"]["in_between_ms_median"])) +
+           "," + fmt(num(r["on"]["in_between_ms_p95"])) + "," + fmt(num(r["off"]["in_between_ms_p95"])) +
+           "," + fmt(num(r["on"]["psnr_median"])) + "," + fmt(num(r["off"]["psnr_median"])) + "," +
+           fmt(num(r["on"]["psnr_p5"])) + "," + fmt(num(r["off"]["psnr_p5"])) + "\n";
+  }
+  return csv;
+}
+
+}  // namespace hw::bench
