@@ -200,6 +200,8 @@ int main(int argc, char** argv) {
   std::string layers = "fused";
   bool noSkipBg = false, noSkipPrev = false;
   double nearDistance = 0;
+  std::string subdivide = "none";
+  int subdivideCell = 16;
   int strips = 4;
   auto* walk = app.add_subcommand(
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
@@ -255,6 +257,16 @@ int main(int argc, char** argv) {
                    "out of that keyframe and rendered as geometry into the frames that use it; "
                    "0 = off")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  walk->add_option("--subdivide", subdivide,
+                   "Cut large quads into cells at upload (paper §2.1): none, uniform (every quad, "
+                   "the paper's), adaptive (only quads whose corner depths differ by 1.5x or whose "
+                   "pixels leave their plane by > 0.2 %); interior cell corners follow the "
+                   "keyframe depth")
+      ->check(CLI::IsMember({"none", "uniform", "adaptive"}))
+      ->capture_default_str();
+  walk->add_option("--subdivide-cell", subdivideCell, "Cell size for --subdivide, keyframe pixels")
+      ->check(CLI::Range(2, 4096))
       ->capture_default_str();
   walk->add_flag("--no-reference", noRef,
                  "Skip the geometry reference render (no PSNR/SSIM; faster)");
@@ -656,6 +668,10 @@ int main(int argc, char** argv) {
   wo.skipBackground = !noSkipBg;
   wo.skipPrevious = !noSkipPrev;
   wo.nearDistance = nearDistance;
+  wo.warp.subdivision = subdivide == "uniform"    ? warp::Subdivision::Uniform
+                        : subdivide == "adaptive" ? warp::Subdivision::Adaptive
+                                                  : warp::Subdivision::None;
+  wo.warp.subdivideCellPx = subdivideCell;
   wo.depthMode = depthModeOf(walkC.depth);
   wo.reference = !noRef;
   wo.saveFrames = saveFrames;

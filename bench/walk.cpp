@@ -111,6 +111,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   }
   bool firstFrameWritten = false;
   int backgroundSkips = 0, previousSkips = 0;
+  std::vector<double> drawnQuads, subdividedQuads;  // per keyframe, after subdivision
   std::vector<double> foregroundUncovered;  // pixels the foreground layer left empty
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
@@ -141,6 +142,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       keyframeMs.push_back((*kf)->renderMs + (*kf)->mesh.stats.deltaMs +
                            (*kf)->mesh.stats.subdivideMs + (*kf)->mesh.stats.cornersMs + ws.uploadMs);
       quadsPerKeyframe.push_back(static_cast<double>((*kf)->mesh.stats.quads));
+      drawnQuads.push_back(ws.drawnQuads);
+      subdividedQuads.push_back(ws.subdividedQuads);
       const auto& ms = (*kf)->mesh.stats;
       lodBuildMs.push_back(ms.deltaMs + ms.subdivideMs + ms.cornersMs);
       onePixelLeaves.push_back(static_cast<double>(ms.onePixelLeaves));
@@ -396,6 +399,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   const bool fusedUsed = opt.fusedLayers && opt.compose.mode == gapfill::ComposeMode::Overlay;
   summary["layers"] = fusedUsed ? "fused" : "separate";
   summary["near_distance"] = opt.nearDistance;
+  summary["subdivision"] = warp::subdivisionName(opt.warp.subdivision);
+  summary["subdivide_cell_px"] = opt.warp.subdivideCellPx;
+  summary["drawn_quads_per_keyframe"] = stats(drawnQuads);
+  summary["subdivided_quads_per_keyframe"] = stats(subdividedQuads);
   summary["near_geometry_ms"] = stats(nearMs);
   summary["skip_background"] = opt.skipBackground;
   summary["skip_previous_frame"] = opt.skipPrevious;

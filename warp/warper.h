@@ -20,7 +20,28 @@ enum class TexcoordMode {
 };
 const char* texcoordModeName(TexcoordMode m);
 
+// Subdivision of large near quads at upload (Zheng et al. 1999 §2.1: "such
+// quadrangles should be subdivided adaptively. At present, however, a uniform
+// subdivision is performed").
+enum class Subdivision {
+  None,      // one quad per leaf (default)
+  Uniform,   // the paper's: every quad cut into cells of subdivideCellPx
+  Adaptive,  // only quads at least 2 cells wide or high whose depth varies:
+             // corner eye-z ratio ≥ subdivideDepthRatio, or pixels off the
+             // quad's plane by more than subdivideResidual (relative)
+};
+const char* subdivisionName(Subdivision s);  // "none", "uniform", "adaptive"
+
 struct WarpOptions {
+  Subdivision subdivision = Subdivision::None;
+  int subdivideCellPx = 16;           // cell size in keyframe pixels
+  double subdivideDepthRatio = 1.5;   // Adaptive: max/min corner eye z
+  double subdivideResidual = 0.002;   // Adaptive: |z − plane z| / z over the leaf's pixels
+  // Interior cell corners take the keyframe's own depth (mean 1/z of the 4
+  // pixels around the corner), so cells follow a surface that is not quite
+  // planar; edge corners stay on the leaf's plane so neighbours still meet.
+  // Off: every cell corner lies on the plane (only the affine mapping gains).
+  bool subdivideFromDepth = true;
   TexcoordMode texcoords = TexcoordMode::Projective;
   // Far plane at infinity for layers, so half-pixel-expanded horizon corners
   // beyond the keyframe's far plane are not clipped (DESIGN.md).
@@ -41,6 +62,8 @@ struct WarpStats {
   double readbackMs = 0;  // colour + depth readback
   int quads = 0;
   int uncovered = 0;      // pixels of the layer no quad or sky rectangle covers
+  int subdividedQuads = 0;  // upload: leaves cut into cells
+  int drawnQuads = 0;       // upload: quads drawn after subdivision
 };
 
 // One fused pass for both layers (Warper::warpPair).

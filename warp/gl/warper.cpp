@@ -1,5 +1,7 @@
 #include "warp/warper.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -12,6 +14,15 @@
 #include "warp/sky_rects.h"
 
 namespace hw::warp {
+
+const char* subdivisionName(Subdivision s) {
+  switch (s) {
+    case Subdivision::None: return "none";
+    case Subdivision::Uniform: return "uniform";
+    case Subdivision::Adaptive: return "adaptive";
+  }
+  return "?";
+}
 
 const char* texcoordModeName(TexcoordMode m) {
   return m == TexcoordMode::Projective ? "projective" : "affine";
@@ -118,28 +129,47 @@ class GlWarper final : public Warper {
     Stopwatch sw;
     auto src = std::make_unique<GlWarpSource>();
     src->camera = kf.camera;
-    src->quads = static_cast<int>(mesh.quads.size());
     const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
     if (options_.skyBackdrop) emptyRects(kf.covered, skyRects_);
     else skyRects_.clear();
     src->skyRects = static_cast<int>(skyRects_.size());
-    scratch_.resize((mesh.quads.size() + skyRects_.size()) * 6);
-    WarpVertex* out = scratch_.data();
+    scratch_.clear();
+    scratch_.reserve((mesh.quads.size() + skyRects_.size()) * 6);
     static constexpr int kTri[6] = {0, 1, 2, 0, 2, 3};
-    for (const keyframe::Quad& q : mesh.quads) {
+    auto emit = [&](const glm::dvec3* world, const glm::dvec2* pixel, const double* eyeZ) {
       for (int k : kTri) {
-        WarpVertex& v = *out++;
-        for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(q.world[k][c]);
+        WarpVertex v;
+        for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(world[k][c]);
         v.pos[3] = 1.0f;
-        const double s = q.pixel[k].x * invW, t = q.pixel[k].y * invH;
-        const double w = options_.texcoords == TexcoordMode::Projective ? q.eyeZ[k] : 1.0;
+        const double s = pixel[k].x * invW, t = pixel[k].y * invH;
+        const double w = options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0;
         v.tex[0] = static_cast<float>(s * w);
         v.tex[1] = static_cast<float>(t * w);
         v.tex[2] = static_cast<float>(w);
+        scratch_.push_back(v);
       }
+    };
+    int subdivided = 0;
+    for (const keyframe::Quad& q : mesh.quads) {
+      const int cells = cellsFor(q, kf);
+      if (cells <= 1) {
+        emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
+        continue;
+      }
+      ++subdivided;
+      emitCells(q, kf, emit);
     }
+    src->quads = static_cast<int>(scratch_.size() / 6);
+    if (stats) {
+      stats->subdividedQuads = subdivided;
+      stats->drawnQuads = src->quads;
+    }
+    WarpVertex* out = nullptr;
     // Sky: each corner is the direction through that keyframe image point,
     // scaled to depth 1 along W, so its projective texcoord is (s, t, 1).
+    const std::size_t quadVerts = scratch_.size();
+    scratch_.resize(quadVerts + skyRects_.size() * 6);
+    out = scratch_.data() + quadVerts;
     for (const keyframe::PixelRect& r : skyRects_) {
       const double us[4] = {double(r.x0), double(r.x1), double(r.x1), double(r.x0)};
       const double vs[4] = {double(r.y0), double(r.y0), double(r.y1), double(r.y1)};
@@ -290,6 +320,91 @@ class GlWarper final : public Warper {
   const WarpOptions& options() const override { return options_; }
 
  private:
+  // 1 = draw the leaf as it is; otherwise it is cut into cells.
+  int cellsFor(const keyframe::Quad& q, const keyframe::Keyframe& kf) const {
+    const int cell = std::max(1, options_.subdivideCellPx);
+    const int nx = (q.rect.width() + cell - 1) / cell, ny = (q.rect.height() + cell - 1) / cell;
+    if (options_.subdivision == Subdivision::None || nx * ny <= 1) return 1;
+    if (options_.subdivision == Subdivision::Uniform) return nx * ny;
+    const double zMin = std::min({q.eyeZ[0], q.eyeZ[1], q.eyeZ[2], q.eyeZ[3]});
+    const double zMax = std::max({q.eyeZ[0], q.eyeZ[1], q.eyeZ[2], q.eyeZ[3]});
+    if (zMax >= options_.subdivideDepthRatio * zMin) return nx * ny;
+    // Depth off the plane, sampled on the cell grid's pixel centres.
+    for (int y = q.rect.y0; y < q.rect.y1; y += std::max(1, cell / 2))
+      for (int x = q.rect.x0; x < q.rect.x1; x += std::max(1, cell / 2)) {
+        if (!kf.covered(x, y)) continue;
+        const double zPlane = planeEyeZ(q, x + 0.5, y + 0.5);
+        const double z = kf.eyeZ(x, y);
+        if (std::abs(z - zPlane) > options_.subdivideResidual * z) return nx * ny;
+      }
+    return 1;
+  }
+
+  // Eye z on the leaf's plane at keyframe pixel position (u, v): 1/z is
+  // bilinear over the quad (quadPointAt).
+  static double planeEyeZ(const keyframe::Quad& q, double u, double v) {
+    const double s = (u - q.pixel[0].x) / (q.pixel[1].x - q.pixel[0].x);
+    const double t = (v - q.pixel[0].y) / (q.pixel[3].y - q.pixel[0].y);
+    const double inv = (1 - s) * (1 - t) / q.eyeZ[0] + s * (1 - t) / q.eyeZ[1] +
+                       s * t / q.eyeZ[2] + (1 - s) * t / q.eyeZ[3];
+    return 1.0 / inv;
+  }
+
+  // Cuts the leaf into a grid of cells at integer pixel edges. Corners on the
+  // leaf's border stay on its plane; interior corners take the keyframe depth
+  // (subdivideFromDepth) when the 4 pixels around them are covered.
+  template <class Emit>
+  void emitCells(const keyframe::Quad& q, const keyframe::Keyframe& kf, Emit& emit) {
+    const int cell = std::max(1, options_.subdivideCellPx);
+    const int x0 = q.rect.x0, y0 = q.rect.y0, x1 = q.rect.x1, y1 = q.rect.y1;
+    const int nx = (x1 - x0 + cell - 1) / cell, ny = (y1 - y0 + cell - 1) / cell;
+    gridX_.resize(static_cast<std::size_t>(nx) + 1);
+    gridY_.resize(static_cast<std::size_t>(ny) + 1);
+    for (int i = 0; i <= nx; ++i) gridX_[static_cast<std::size_t>(i)] = x0 + (x1 - x0) * i / nx;
+    for (int j = 0; j <= ny; ++j) gridY_[static_cast<std::size_t>(j)] = y0 + (y1 - y0) * j / ny;
+    const std::size_t stride = static_cast<std::size_t>(nx) + 1;
+    gridZ_.resize(stride * (static_cast<std::size_t>(ny) + 1));
+    gridP_.resize(gridZ_.size());
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        const int u = gridX_[static_cast<std::size_t>(i)], v = gridY_[static_cast<std::size_t>(j)];
+        // Leaf corners keep their recovered values exactly.
+        double z = planeEyeZ(q, u, v);
+        const bool border = i == 0 || j == 0 || i == nx || j == ny;
+        if (!border && options_.subdivideFromDepth && kf.covered(u - 1, v - 1) &&
+            kf.covered(u, v - 1) && kf.covered(u - 1, v) && kf.covered(u, v)) {
+          const double inv = (1.0 / kf.eyeZ(u - 1, v - 1) + 1.0 / kf.eyeZ(u, v - 1) +
+                              1.0 / kf.eyeZ(u - 1, v) + 1.0 / kf.eyeZ(u, v)) / 4.0;
+          if (std::isfinite(inv) && inv > 0) z = 1.0 / inv;
+        }
+        const std::size_t k = static_cast<std::size_t>(j) * stride + static_cast<std::size_t>(i);
+        gridZ_[k] = z;
+        gridP_[k] = kf.camera.unproject(u, v, z);
+      }
+    const auto at = [&](int i, int j) { return static_cast<std::size_t>(j) * stride + static_cast<std::size_t>(i); };
+    // Exact corners for the leaf's own four corners.
+    gridP_[at(0, 0)] = q.world[0], gridZ_[at(0, 0)] = q.eyeZ[0];
+    gridP_[at(nx, 0)] = q.world[1], gridZ_[at(nx, 0)] = q.eyeZ[1];
+    gridP_[at(nx, ny)] = q.world[2], gridZ_[at(nx, ny)] = q.eyeZ[2];
+    gridP_[at(0, ny)] = q.world[3], gridZ_[at(0, ny)] = q.eyeZ[3];
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t c[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+        const glm::dvec3 w[4] = {gridP_[c[0]], gridP_[c[1]], gridP_[c[2]], gridP_[c[3]]};
+        const glm::dvec2 px[4] = {
+            {gridX_[static_cast<std::size_t>(i)], gridY_[static_cast<std::size_t>(j)]},
+            {gridX_[static_cast<std::size_t>(i) + 1], gridY_[static_cast<std::size_t>(j)]},
+            {gridX_[static_cast<std::size_t>(i) + 1], gridY_[static_cast<std::size_t>(j) + 1]},
+            {gridX_[static_cast<std::size_t>(i)], gridY_[static_cast<std::size_t>(j) + 1]}};
+        const double z[4] = {gridZ_[c[0]], gridZ_[c[1]], gridZ_[c[2]], gridZ_[c[3]]};
+        emit(w, px, z);
+      }
+  }
+
+  std::vector<int> gridX_, gridY_;
+  std::vector<double> gridZ_;
+  std::vector<glm::dvec3> gridP_;
+
   Status ensureTarget(const Camera& target, bool eyeZ, bool stencil, gl::Framebuffer& fbo) {
     if (target.width < 1 || target.height < 1)
       return makeError("warp: target image size " + std::to_string(target.width) + "x" +
