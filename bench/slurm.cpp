@@ -175,7 +175,6 @@ Status runLocal(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
   std::map<int, int> exitOf;  // chunk → exit status (−signal when killed)
   std::size_t next = 0;
   Stopwatch sw;
-  SignalGuard guard;
   auto spawn = [&](int chunk) -> Status {
     std::vector<std::string> args = plan.command;
     args.push_back("--chunk");
@@ -314,7 +313,6 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
     std::fprintf(stderr, "%s: submitted Slurm job %s: %zu array tasks (indices %s)\n", plan.label.c_str(),
                  jobId.c_str(), todo.size(), indexList(todo).c_str());
 
-  SignalGuard guard;
   Stopwatch sw;
   for (;;) {
     const Captured q = capture({"squeue", "-h", "-r", "-j", jobId, "-o", "%T"});
@@ -336,7 +334,7 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
                         std::to_string(static_cast<int>(sw.ms() / 1000)) + " s");
     // squeue fails once the job is purged; an empty list means it has ended.
     if (q.status != 0 || pending + runningN + other == 0) break;
-    for (int t = 0; t < static_cast<int>(o.pollSeconds * 10) && !gInterrupted; ++t)
+    for (int t = 0; !gInterrupted && t < static_cast<int>(o.pollSeconds * 10); ++t)
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     if (gInterrupted) {
       const Captured c = capture({"scancel", jobId});
@@ -389,6 +387,7 @@ Status runChunks(const ChunkPlan& plan, const DistributeOptions& o) {
   if (o.resume && o.progress)
     std::fprintf(stderr, "%s: resuming: %zu of %d chunks to run (indices %s)\n", plan.label.c_str(), todo.size(),
                  plan.chunks, indexList(todo).c_str());
+  SignalGuard guard;  // from before sbatch / the first worker until the end
   return o.slurm ? runSlurm(plan, o, todo) : runLocal(plan, o, todo);
 }
 

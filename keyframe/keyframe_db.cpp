@@ -445,12 +445,19 @@ std::vector<int> KeyframeDb::keyframeFrames() const {
 Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want) const {
   const json& have = index_["baked_from"];
   const json expected = provenanceJson(want);
+  auto mismatch = [&](const std::string& key, const json* h, const json& v) {
+    return makeError(dir_ + "/index.json: database baked for " + key + " " +
+                     (h ? h->dump() : std::string("(missing)")) + ", this run has " + v.dump() +
+                     " (bake the database again with the same scene, path, --frames, --depth and LOD options)");
+  };
   for (const auto& [key, value] : expected.items()) {
-    if (key == "triangles" && !have.contains(key)) continue;
-    if (!have.contains(key) || have[key] != value)
-      return makeError(dir_ + "/index.json: database baked for " + key + " " +
-                       (have.contains(key) ? have[key].dump() : std::string("(missing)")) + ", this run has " +
-                       value.dump() + " (bake the database again with the same scene, path and options)");
+    const json* h = have.contains(key) ? &have[key] : nullptr;
+    if (value.is_object() && h && h->is_object()) {  // name the sub-field (mesh.tau)
+      for (const auto& [sub, v] : value.items())
+        if (!h->contains(sub) || (*h)[sub] != v)
+          return mismatch(key + "." + sub, h->contains(sub) ? &(*h)[sub] : nullptr, v);
+    }
+    if (!h || *h != value) return mismatch(key, h, value);
   }
   return {};
 }

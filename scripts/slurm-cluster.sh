@@ -7,6 +7,7 @@
 #   scripts/slurm-cluster.sh status [DIR]   daemons and sinfo; exit 1 if not up
 #   scripts/slurm-cluster.sh env    [DIR]   print "export SLURM_CONF=..." for eval
 #   scripts/slurm-cluster.sh stop   [DIR]   scancel everything, wait, stop by PID
+# HW_SLURM_PORT=P (start): slurmctld listens on P, slurmd on P+1.
 #
 # Clients (sbatch, squeue, scontrol, scancel, hybridwalk --slurm) need
 # SLURM_CONF: eval "$(scripts/slurm-cluster.sh env DIR)".
@@ -79,8 +80,9 @@ PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 EOF
 }
 
-# Ports derived from the uid so two users' clusters do not collide.
-port() { echo $(( 16817 + ($(id -u) % 500) * 2 + $1 )); }
+# Ports: HW_SLURM_PORT and the next one (a test picks its own, so a second
+# cluster on the machine does not collide); default derived from the uid.
+port() { echo $(( ${HW_SLURM_PORT:-$(( 16817 + ($(id -u) % 500) * 2 ))} + $1 )); }
 
 start() {
   command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v munged >/dev/null ||
@@ -147,5 +149,5 @@ case "$cmd" in
     done
     if [ "$ok" = 1 ]; then SLURM_CONF=$conf sinfo -N -l || ok=0; fi
     [ "$ok" = 1 ] ;;
-  *) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+  *) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
 esac
