@@ -450,7 +450,9 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want) const {
                      (h ? h->dump() : std::string("(missing)")) + ", this run has " + v.dump() +
                      " (bake the database again with the same scene, path, --frames, --depth and LOD options)");
   };
-  for (const auto& [key, value] : expected.items()) {
+  for (const char* k : {"scene", "triangles", "path_hash", "frames", "resolution", "depth_mode", "mesh"}) {
+    const std::string key = k;
+    const json& value = expected[key];
     const json* h = have.contains(key) ? &have[key] : nullptr;
     if (value.is_object() && h && h->is_object()) {  // name the sub-field (mesh.tau)
       for (const auto& [sub, v] : value.items())
