@@ -203,7 +203,8 @@ void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
   c->add_option("--slurm-account", o.d.account, "sbatch --account");
   c->add_option("--slurm-time", o.d.timeLimit, "sbatch --time: time limit per array task, e.g. 30 or 1:00:00");
   c->add_option("--sbatch-arg", o.d.sbatchArgs,
-                "Extra sbatch argument, passed as given (repeatable), e.g. --sbatch-arg=--qos=short");
+                "Extra sbatch argument, passed as given (repeatable); write it with = since it starts "
+                "with a dash: --sbatch-arg=--qos=short");
   c->add_option("--slurm-poll", o.d.pollSeconds, "Seconds between squeue polls")
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
@@ -245,6 +246,8 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
     if (auto st = bench::writeChunkResult(work, dist.chunk, {{"entries", ej}}); !st) return fail(st.error().message);
     return 0;
   }
+  if (dist.d.resume && !bench::distributed(dist.d))
+    return fail("--resume: only with --slurm or --workers N > 1 (an in-process bake has no chunks to resume)");
   if (auto st = ensureWritableDir(out); !st) return fail(st.error().message);
   // A fresh bake replaces an earlier database: its index first (a directory
   // without index.json is an incomplete database), then its keyframe files.
@@ -729,6 +732,8 @@ int main(int argc, char** argv) {
         return fail(st.error().message);
       return 0;
     }
+    if (sweepDist.d.resume && !bench::distributed(sweepDist.d))
+      return fail("--resume: only with --slurm or --workers N > 1 (an in-process sweep has no chunks to resume)");
     Result<json> res = makeError("");
     if (bench::distributed(sweepDist.d)) {
       if (auto st = ensureWritableDir(sweepOut); !st) return fail(st.error().message);

@@ -136,10 +136,17 @@ Status prepareWorkDir(const ChunkPlan& plan, bool resume) {
     } catch (const json::exception& e) {
       return makeError(planFile + ": not valid JSON: " + e.what());
     }
-    // argv[0] may differ (a rebuilt binary elsewhere); the options must not.
-    json a = old, b = planJson;
-    if (a.contains("command") && a["command"].is_array() && !a["command"].empty()) a["command"].erase(0);
-    b["command"].erase(0);
+    // argv[0] may differ (a rebuilt binary elsewhere) and --quiet does not
+    // change the results; every other option must be the same.
+    auto comparable = [](json j) {
+      if (!j.contains("command") || !j["command"].is_array() || j["command"].empty()) return j;
+      json c = json::array();
+      for (std::size_t i = 1; i < j["command"].size(); ++i)
+        if (j["command"][i] != "--quiet") c.push_back(j["command"][i]);
+      j["command"] = c;
+      return j;
+    };
+    const json a = comparable(old), b = comparable(planJson);
     if (a != b)
       return makeError("--resume: " + planFile + " was made by a different command: " + old.dump() +
                        ", this run is " + planJson.dump() + " (run without --resume to start over)");
@@ -314,8 +321,10 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
                  jobId.c_str(), todo.size(), indexList(todo).c_str());
 
   Stopwatch sw;
+  int squeueFailures = 0;
   for (;;) {
     const Captured q = capture({"squeue", "-h", "-r", "-j", jobId, "-o", "%T"});
+    squeueFailures = q.status == 0 ? 0 : squeueFailures + 1;
     int pending = 0, runningN = 0, other = 0;
     if (q.status == 0) {
       std::istringstream in(q.out);
@@ -332,8 +341,10 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
                         std::to_string(todo.size()) + " tasks done, " + std::to_string(runningN) + " running, " +
                         std::to_string(pending) + " pending, elapsed " +
                         std::to_string(static_cast<int>(sw.ms() / 1000)) + " s");
-    // squeue fails once the job is purged; an empty list means it has ended.
-    if (q.status != 0 || pending + runningN + other == 0) break;
+    // An empty list means the job has ended; squeue also fails once the job
+    // is purged (MinJobAge), so five failures in a row count as ended too
+    // (one failure may be a busy controller).
+    if ((q.status == 0 && pending + runningN + other == 0) || squeueFailures >= 5) break;
     for (int t = 0; !gInterrupted && t < static_cast<int>(o.pollSeconds * 10); ++t)
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     if (gInterrupted) {
