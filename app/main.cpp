@@ -201,10 +201,11 @@ void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
               "same command (same --out)");
   c->add_option("--slurm-partition", o.d.partition, "sbatch --partition");
   c->add_option("--slurm-account", o.d.account, "sbatch --account");
-  c->add_option("--slurm-time", o.d.timeLimit, "sbatch --time: time limit per array task, e.g. 30 or 1:00:00");
+  c->add_option("--slurm-time", o.d.timeLimit, "sbatch --time: time limit per array task (minutes, or [D-]H:MM:SS), e.g. 30 or 1:00:00");
   c->add_option("--sbatch-arg", o.d.sbatchArgs,
                 "Extra sbatch argument, passed as given (repeatable); write it with = since it starts "
-                "with a dash: --sbatch-arg=--qos=short");
+                "with a dash: --sbatch-arg=--qos=short")
+      ->allow_extra_args(false);
   c->add_option("--slurm-poll", o.d.pollSeconds, "Seconds between squeue polls")
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();

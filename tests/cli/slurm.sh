@@ -84,6 +84,10 @@ check bake-workers-identical same_db db dbw
 check sweep-local "$hw" "${sweepArgs[@]}" --out s-local
 check sweep-workers "$hw" "${sweepArgs[@]}" --out s-workers --workers 2
 check sweep-workers-equal same_sweep s-local s-workers
+HW_FAIL_CHUNK=3 "$hw" "${sweepArgs[@]}" --out s-wfail --workers 2 2>err.txt
+check workers-failed-by-index grep -q 'worker chunks failed (indices 3)' err.txt
+check workers-resume "$hw" "${sweepArgs[@]}" --out s-wfail --workers 2 --resume
+check workers-resume-equal same_sweep s-local s-wfail
 
 # ---- one-node Slurm cluster -------------------------------------------------
 if ! "$src/scripts/slurm-cluster.sh" start "$cluster"; then
