@@ -22,7 +22,8 @@ std::vector<int> bakeKeyframeList(const scenes::CameraPath& path, int frames) {
 
 keyframe::KeyframeDbProvenance bakeProvenance(const std::string& sceneLabel, std::size_t triangles,
                                               const scenes::CameraPath& path, int frames,
-                                              const keyframe::LodOptions& lod, DepthMode depthMode) {
+                                              const keyframe::LodOptions& lod,
+                                              DepthMode depthMode) {
   keyframe::KeyframeDbProvenance p;
   p.scene = sceneLabel;
   p.triangles = triangles;
@@ -78,12 +79,15 @@ Status writeBakeIndex(const std::string& outDir, const keyframe::KeyframeDbProve
     std::error_code ec;
     const std::string f = outDir + "/" + e.file;
     const auto size = std::filesystem::file_size(f, ec);
-    if (ec) return makeError(f + ": " + ec.message() + " (expected the keyframe of frame " +
-                             std::to_string(e.frame) + ")");
+    if (ec)
+      return makeError(f + ": " + ec.message() + " (expected the keyframe of frame " +
+                       std::to_string(e.frame) + ")");
     if (size != e.bytes)
-      return makeError(f + ": " + std::to_string(size) + " bytes, expected " + std::to_string(e.bytes));
+      return makeError(f + ": " + std::to_string(size) + " bytes, expected " +
+                       std::to_string(e.bytes));
   }
-  return writeFileAtomic(outDir + "/index.json", keyframe::keyframeDbIndexJson(provenance, entries));
+  return writeFileAtomic(outDir + "/index.json",
+                         keyframe::keyframeDbIndexJson(provenance, entries));
 }
 
 }  // namespace hw::bench

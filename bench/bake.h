@@ -15,10 +15,10 @@
 namespace hw::bench {
 
 struct BakeOptions {
-  keyframe::LodOptions lod;                   // τ, criterion, planarity, merge strips (as walk)
+  keyframe::LodOptions lod;  // τ, criterion, planarity, merge strips (as walk)
   DepthMode depthMode = kDefaultDepthMode;
-  int maxFrames = 0;                          // frames of the path; 0 = all
-  std::string outDir;                         // the database directory (required)
+  int maxFrames = 0;   // frames of the path; 0 = all
+  std::string outDir;  // the database directory (required)
   bool progress = true;
 };
 

@@ -1,7 +1,7 @@
 #include "bench/slurm.h"
 
-#include <signal.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -50,14 +50,17 @@ class SignalGuard {
   }
 
  private:
-  struct sigaction oldInt_ {}, oldTerm_ {};
+  struct sigaction oldInt_ {
+  }, oldTerm_{};
 };
 
 std::string shellQuote(const std::string& s) {
   std::string out = "'";
   for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
+    if (c == '\'')
+      out += "'\\''";
+    else
+      out += c;
   }
   return out + "'";
 }
@@ -126,8 +129,8 @@ Status prepareWorkDir(const ChunkPlan& plan, bool resume) {
   std::error_code ec;
   if (resume) {
     if (!fs::exists(planFile, ec))
-      return makeError("--resume: " + planFile + " not found: there is no interrupted " + plan.label +
-                       " run in this output directory (run without --resume)");
+      return makeError("--resume: " + planFile + " not found: there is no interrupted " +
+                       plan.label + " run in this output directory (run without --resume)");
     auto text = readFile(planFile);
     if (!text) return text.error();
     json old;
@@ -149,7 +152,8 @@ Status prepareWorkDir(const ChunkPlan& plan, bool resume) {
     const json a = comparable(old), b = comparable(planJson);
     if (a != b)
       return makeError("--resume: " + planFile + " was made by a different command: " + old.dump() +
-                       ", this run is " + planJson.dump() + " (run without --resume to start over)");
+                       ", this run is " + planJson.dump() +
+                       " (run without --resume to start over)");
   } else {
     fs::remove_all(plan.workDir, ec);
     if (ec) return makeError("cannot remove " + plan.workDir + ": " + ec.message());
@@ -208,8 +212,9 @@ Status runLocal(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
       for (const auto& r : running) ::kill(r.pid, SIGTERM);
       for (const auto& r : running) ::waitpid(r.pid, nullptr, 0);
       if (o.progress) std::fprintf(stderr, "\n");
-      return makeError(plan.label + ": interrupted (signal " + std::to_string(gInterrupted) +
-                       "); stopped the workers; run again with --resume to finish the missing chunks");
+      return makeError(
+          plan.label + ": interrupted (signal " + std::to_string(gInterrupted) +
+          "); stopped the workers; run again with --resume to finish the missing chunks");
     }
     for (std::size_t i = 0; i < running.size();) {
       int st = 0;
@@ -222,8 +227,9 @@ Status runLocal(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
       }
     }
     progressLine(o, plan.label + ": workers: " + std::to_string(exitOf.size()) + "/" +
-                        std::to_string(todo.size()) + " chunks finished, " + std::to_string(running.size()) +
-                        " running, elapsed " + std::to_string(static_cast<int>(sw.ms() / 1000)) + " s");
+                        std::to_string(todo.size()) + " chunks finished, " +
+                        std::to_string(running.size()) + " running, elapsed " +
+                        std::to_string(static_cast<int>(sw.ms() / 1000)) + " s");
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   if (o.progress) std::fprintf(stderr, "\n");
@@ -234,12 +240,13 @@ Status runLocal(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
     failed.push_back(c);
     const int e = exitOf.count(c) ? exitOf[c] : 0;
     detail += "\n  chunk " + std::to_string(c) + ": " +
-              (e < 0 ? "killed by signal " + std::to_string(-e) : "exit " + std::to_string(e)) + "; log " +
-              logFile(plan.workDir, c) + ": " + tailOfLog(logFile(plan.workDir, c));
+              (e < 0 ? "killed by signal " + std::to_string(-e) : "exit " + std::to_string(e)) +
+              "; log " + logFile(plan.workDir, c) + ": " + tailOfLog(logFile(plan.workDir, c));
   }
   if (!failed.empty())
-    return makeError(plan.label + ": " + std::to_string(failed.size()) + " of " + std::to_string(todo.size()) +
-                     " worker chunks failed (indices " + indexList(failed) + "):" + detail +
+    return makeError(plan.label + ": " + std::to_string(failed.size()) + " of " +
+                     std::to_string(todo.size()) + " worker chunks failed (indices " +
+                     indexList(failed) + "):" + detail +
                      "\nrun the same command with --resume to rerun only these");
   return {};
 }
@@ -271,8 +278,10 @@ std::map<int, TaskInfo> scontrolTasks(const std::string& jobId) {
     record.clear();
   };
   while (std::getline(in, line)) {
-    if (line.find_first_not_of(" \t") == std::string::npos) flush();
-    else record += line + "\n";
+    if (line.find_first_not_of(" \t") == std::string::npos)
+      flush();
+    else
+      record += line + "\n";
   }
   flush();
   return out;
@@ -280,7 +289,8 @@ std::map<int, TaskInfo> scontrolTasks(const std::string& jobId) {
 
 Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::vector<int>& todo) {
   // The task script: the program on one chunk, the array index as chunk.
-  std::string script = "#!/bin/sh\n# hybridwalk " + plan.label + ": one chunk per array task (docs/slurm.md)\nexec";
+  std::string script =
+      "#!/bin/sh\n# hybridwalk " + plan.label + ": one chunk per array task (docs/slurm.md)\nexec";
   for (const auto& a : plan.command) {
     script += ' ';
     script += shellQuote(a);
@@ -288,12 +298,16 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
   script += " --chunk \"$SLURM_ARRAY_TASK_ID\"\n";
   const std::string scriptFile = plan.workDir + "/task.sh";
   HW_TRY(writeFileAtomic(scriptFile, script));
-  fs::permissions(scriptFile, fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
+  fs::permissions(scriptFile,
+                  fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
   std::error_code ec;
   const std::string cwd = fs::current_path(ec).string();
-  std::vector<std::string> args = {"sbatch", "--parsable", "--array=" + indexList(todo),
+  std::vector<std::string> args = {"sbatch",
+                                   "--parsable",
+                                   "--array=" + indexList(todo),
                                    "--job-name=hw-" + plan.label,
-                                   "--output=" + plan.workDir + "/logs/chunk-%4a.log", "--chdir=" + cwd};
+                                   "--output=" + plan.workDir + "/logs/chunk-%4a.log",
+                                   "--chdir=" + cwd};
   if (!o.partition.empty()) args.push_back("--partition=" + o.partition);
   if (!o.account.empty()) args.push_back("--account=" + o.account);
   if (!o.timeLimit.empty()) args.push_back("--time=" + o.timeLimit);
@@ -306,19 +320,20 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
     cmdText += a;
   }
   if (sub.status != 0)
-    return makeError(plan.label + ": sbatch failed (" +
-                     (sub.status < 0 ? std::string("not found or not runnable; is Slurm installed and on PATH?")
-                                     : "exit " + std::to_string(sub.status)) +
-                     "): " + lastLine(sub.out) + "\n  command: " + cmdText +
-                     (std::getenv("SLURM_CONF") ? "" : "\n  (SLURM_CONF is not set)"));
+    return makeError(
+        plan.label + ": sbatch failed (" +
+        (sub.status < 0 ? std::string("not found or not runnable; is Slurm installed and on PATH?")
+                        : "exit " + std::to_string(sub.status)) +
+        "): " + lastLine(sub.out) + "\n  command: " + cmdText +
+        (std::getenv("SLURM_CONF") ? "" : "\n  (SLURM_CONF is not set)"));
   std::string jobId = lastLine(sub.out);
   if (const auto semi = jobId.find(';'); semi != std::string::npos) jobId = jobId.substr(0, semi);
   if (jobId.empty() || jobId.find_first_not_of("0123456789") != std::string::npos)
     return makeError(plan.label + ": sbatch printed '" + sub.out + "', expected a job id");
   HW_TRY(writeFileAtomic(plan.workDir + "/job-id", jobId + "\n"));
   if (o.progress)
-    std::fprintf(stderr, "%s: submitted Slurm job %s: %zu array tasks (indices %s)\n", plan.label.c_str(),
-                 jobId.c_str(), todo.size(), indexList(todo).c_str());
+    std::fprintf(stderr, "%s: submitted Slurm job %s: %zu array tasks (indices %s)\n",
+                 plan.label.c_str(), jobId.c_str(), todo.size(), indexList(todo).c_str());
 
   Stopwatch sw;
   int squeueFailures = 0;
@@ -330,16 +345,19 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
       std::istringstream in(q.out);
       std::string st;
       while (in >> st) {
-        if (st == "PENDING") ++pending;
-        else if (st == "RUNNING" || st == "COMPLETING" || st == "CONFIGURING") ++runningN;
-        else ++other;
+        if (st == "PENDING")
+          ++pending;
+        else if (st == "RUNNING" || st == "COMPLETING" || st == "CONFIGURING")
+          ++runningN;
+        else
+          ++other;
       }
     }
     int done = 0;
     for (int c : todo) done += haveResult(plan.workDir, c);
     progressLine(o, plan.label + ": Slurm job " + jobId + ": " + std::to_string(done) + "/" +
-                        std::to_string(todo.size()) + " tasks done, " + std::to_string(runningN) + " running, " +
-                        std::to_string(pending) + " pending, elapsed " +
+                        std::to_string(todo.size()) + " tasks done, " + std::to_string(runningN) +
+                        " running, " + std::to_string(pending) + " pending, elapsed " +
                         std::to_string(static_cast<int>(sw.ms() / 1000)) + " s");
     // An empty list means the job has ended; squeue also fails once the job
     // is purged (MinJobAge), so five failures in a row count as ended too
@@ -350,10 +368,11 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
     if (gInterrupted) {
       const Captured c = capture({"scancel", jobId});
       if (o.progress) std::fprintf(stderr, "\n");
-      return makeError(plan.label + ": interrupted (signal " + std::to_string(gInterrupted) +
-                       "); cancelled Slurm job " + jobId +
-                       (c.status == 0 ? std::string() : " (scancel failed: " + lastLine(c.out) + ")") +
-                       "; run the same command with --resume to finish the missing chunks");
+      return makeError(
+          plan.label + ": interrupted (signal " + std::to_string(gInterrupted) +
+          "); cancelled Slurm job " + jobId +
+          (c.status == 0 ? std::string() : " (scancel failed: " + lastLine(c.out) + ")") +
+          "; run the same command with --resume to finish the missing chunks");
     }
   }
   if (o.progress) std::fprintf(stderr, "\n");
@@ -376,9 +395,10 @@ Status runSlurm(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
                                             : ", reason " + it->second.reason)) +
               "; log " + logFile(plan.workDir, c) + ": " + tailOfLog(logFile(plan.workDir, c));
   }
-  return makeError(plan.label + ": " + std::to_string(missing.size()) + " of " + std::to_string(todo.size()) +
-                   " tasks of Slurm job " + jobId + " failed (array indices " + indexList(missing) + "):" +
-                   detail + "\nrun the same command with --resume to resubmit only these");
+  return makeError(plan.label + ": " + std::to_string(missing.size()) + " of " +
+                   std::to_string(todo.size()) + " tasks of Slurm job " + jobId +
+                   " failed (array indices " + indexList(missing) + "):" + detail +
+                   "\nrun the same command with --resume to resubmit only these");
 }
 
 }  // namespace
@@ -396,8 +416,8 @@ Status runChunks(const ChunkPlan& plan, const DistributeOptions& o) {
   const std::vector<int> todo = missingChunks(plan);
   if (todo.empty()) return {};
   if (o.resume && o.progress)
-    std::fprintf(stderr, "%s: resuming: %zu of %d chunks to run (indices %s)\n", plan.label.c_str(), todo.size(),
-                 plan.chunks, indexList(todo).c_str());
+    std::fprintf(stderr, "%s: resuming: %zu of %d chunks to run (indices %s)\n", plan.label.c_str(),
+                 todo.size(), plan.chunks, indexList(todo).c_str());
   SignalGuard guard;  // from before sbatch / the first worker until the end
   return o.slurm ? runSlurm(plan, o, todo) : runLocal(plan, o, todo);
 }
@@ -424,8 +444,8 @@ Status failChunkHook(int chunk) {
   std::string item;
   while (std::getline(in, item, ','))
     if (item == std::to_string(chunk))
-      return makeError("chunk " + std::to_string(chunk) + " failed on purpose (HW_FAIL_CHUNK=" + env +
-                       ", a test hook)");
+      return makeError("chunk " + std::to_string(chunk) +
+                       " failed on purpose (HW_FAIL_CHUNK=" + env + ", a test hook)");
   return {};
 }
 
@@ -435,8 +455,9 @@ Status writeChunkResult(const std::string& workDir, int chunk, const json& resul
 
 std::vector<std::string> chunkCommand(int argc, char** argv) {
   static const std::set<std::string> flags = {"--slurm", "--resume"};
-  static const std::set<std::string> withValue = {"--workers", "--slurm-partition", "--slurm-account",
-                                                  "--slurm-time", "--sbatch-arg", "--slurm-poll"};
+  static const std::set<std::string> withValue = {"--workers",       "--slurm-partition",
+                                                  "--slurm-account", "--slurm-time",
+                                                  "--sbatch-arg",    "--slurm-poll"};
   std::vector<std::string> out;
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);

@@ -4,10 +4,9 @@
 // partial result to WORK/chunk-I.json; chunks run in local worker processes
 // or as the tasks of one Slurm job array (sbatch), and the caller merges the
 // results. Design and options: docs/slurm.md.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <bit>
-#include <condition_variable>
-#include <mutex>
-#include <thread>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <set>
+#include <thread>
 
 #include "core/file_io.h"
 #include "core/timer.h"
@@ -23,7 +23,7 @@ using nlohmann::json;
 
 constexpr std::size_t kQuadBytes = 4 * 4 + 12 * 8 + 8 * 8 + 4 * 8 + 4;  // 212
 // camera (12 + 1 + 2 + 2 doubles/ints, depth mode), render stats, mesh header
-constexpr std::size_t kCameraBytes = 12 * 8 + 8 + 4 + 4 + 8 + 8 + 4;       // 132
+constexpr std::size_t kCameraBytes = 12 * 8 + 8 + 4 + 4 + 8 + 8 + 4;  // 132
 constexpr std::size_t kRenderBytes = 8 + 8;
 constexpr std::size_t kMeshHeaderBytes = 4 + 4 + 8 + 4 + 4 + 8 + 4 + 4 + 8 + 8;  // 56
 constexpr std::size_t kPixelBytes = 4 + 8 + 4 + 1;  // colour, z', eye z, covered
@@ -90,8 +90,9 @@ struct Header {
 
 Result<Header> parseHeader(std::string_view bytes, const std::string& file) {
   if (bytes.size() < kKeyframeHeaderBytes)
-    return makeError(file + ": truncated keyframe file: expected a " + std::to_string(kKeyframeHeaderBytes) +
-                     "-byte header, found " + std::to_string(bytes.size()) + " bytes");
+    return makeError(file + ": truncated keyframe file: expected a " +
+                     std::to_string(kKeyframeHeaderBytes) + "-byte header, found " +
+                     std::to_string(bytes.size()) + " bytes");
   if (std::memcmp(bytes.data(), kKeyframeFileMagic, 8) != 0)
     return makeError(file + ": not a hybridwalk keyframe file: expected magic 'HWKFRAME', found '" +
                      std::string(bytes.substr(0, 8)) + "'");
@@ -163,7 +164,8 @@ std::string keyframeFileName(int frame) {
   return buf;
 }
 
-std::string encodeKeyframe(int frame, const Keyframe& kf, const QuadMesh& mesh, const RenderStats& render) {
+std::string encodeKeyframe(int frame, const Keyframe& kf, const QuadMesh& mesh,
+                           const RenderStats& render) {
   const int w = kf.colour.width(), h = kf.colour.height();
   HW_CHECK(w >= 1 && h >= 1 && w <= kMaxSide && h <= kMaxSide);
   HW_CHECK(kf.zPrime.width() == w && kf.zPrime.height() == h);
@@ -261,9 +263,9 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
   const std::size_t n = static_cast<std::size_t>(h.width) * h.height;
   const std::size_t fixed = kCameraBytes + kRenderBytes + n * kPixelBytes + kMeshHeaderBytes;
   if (payload.size() < fixed)
-    return makeError(file + ": payload of " + std::to_string(payload.size()) + " bytes, expected at least " +
-                     std::to_string(fixed) + " for " + std::to_string(h.width) + "x" +
-                     std::to_string(h.height));
+    return makeError(file + ": payload of " + std::to_string(payload.size()) +
+                     " bytes, expected at least " + std::to_string(fixed) + " for " +
+                     std::to_string(h.width) + "x" + std::to_string(h.height));
   Reader r(payload);
   Keyframe& kf = out.keyframe;
   Camera& c = kf.camera;
@@ -278,8 +280,9 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
   c.farPlane = r.get<double>();
   const auto dm = r.get<std::uint32_t>();
   if (c.width != h.width || c.height != h.height)
-    return makeError(file + ": camera is " + std::to_string(c.width) + "x" + std::to_string(c.height) +
-                     ", header says " + std::to_string(h.width) + "x" + std::to_string(h.height));
+    return makeError(file + ": camera is " + std::to_string(c.width) + "x" +
+                     std::to_string(c.height) + ", header says " + std::to_string(h.width) + "x" +
+                     std::to_string(h.height));
   if (dm > std::uint32_t(DepthMode::Float32Reversed))
     return makeError(file + ": depth mode " + std::to_string(dm) + ", expected 0..2");
   kf.depthMode = static_cast<DepthMode>(dm);
@@ -309,14 +312,16 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
   s.tauZPrime = r.get<double>();
   s.tauParallaxPx = r.get<double>();
   if (m.width != h.width || m.height != h.height)
-    return makeError(file + ": mesh is " + std::to_string(m.width) + "x" + std::to_string(m.height) +
-                     ", header says " + std::to_string(h.width) + "x" + std::to_string(h.height));
+    return makeError(file + ": mesh is " + std::to_string(m.width) + "x" +
+                     std::to_string(m.height) + ", header says " + std::to_string(h.width) + "x" +
+                     std::to_string(h.height));
   if (crit > std::uint32_t(DeltaCriterion::PerAxisMax))
     return makeError(file + ": criterion " + std::to_string(crit) + ", expected 0..1");
   s.criterion = static_cast<DeltaCriterion>(crit);
   if (quads > n || payload.size() - r.pos() != quads * kQuadBytes)
-    return makeError(file + ": " + std::to_string(quads) + " quads need " + std::to_string(quads * kQuadBytes) +
-                     " bytes, " + std::to_string(payload.size() - r.pos()) + " remain (at most " +
+    return makeError(file + ": " + std::to_string(quads) + " quads need " +
+                     std::to_string(quads * kQuadBytes) + " bytes, " +
+                     std::to_string(payload.size() - r.pos()) + " remain (at most " +
                      std::to_string(n) + " quads for " + std::to_string(n) + " pixels)");
   m.quads.resize(quads);
   for (std::size_t i = 0; i < quads; ++i) {
@@ -334,9 +339,10 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
     q.maxDelta = r.get<float>();
     if (q.rect.x0 < 0 || q.rect.y0 < 0 || q.rect.x1 > h.width || q.rect.y1 > h.height ||
         q.rect.x0 >= q.rect.x1 || q.rect.y0 >= q.rect.y1)
-      return makeError(file + ": quad " + std::to_string(i) + " rectangle [" + std::to_string(q.rect.x0) +
-                       "," + std::to_string(q.rect.x1) + ")x[" + std::to_string(q.rect.y0) + "," +
-                       std::to_string(q.rect.y1) + ") is outside the " + std::to_string(h.width) + "x" +
+      return makeError(file + ": quad " + std::to_string(i) + " rectangle [" +
+                       std::to_string(q.rect.x0) + "," + std::to_string(q.rect.x1) + ")x[" +
+                       std::to_string(q.rect.y0) + "," + std::to_string(q.rect.y1) +
+                       ") is outside the " + std::to_string(h.width) + "x" +
                        std::to_string(h.height) + " image or empty");
   }
   out.frame = h.frame;
@@ -354,15 +360,19 @@ json meshOptionsJson(const LodOptions& lod) {
 }
 
 json provenanceJson(const KeyframeDbProvenance& p) {
-  return {{"scene", p.scene},          {"triangles", p.triangles}, {"path_hash", p.pathHash},
-          {"frames", p.frames},        {"resolution", {p.width, p.height}},
-          {"depth_mode", p.depthMode}, {"mesh", p.mesh}};
+  return {{"scene", p.scene},   {"triangles", p.triangles},          {"path_hash", p.pathHash},
+          {"frames", p.frames}, {"resolution", {p.width, p.height}}, {"depth_mode", p.depthMode},
+          {"mesh", p.mesh}};
 }
 
-std::string keyframeDbIndexJson(const KeyframeDbProvenance& p, const std::vector<KeyframeDbEntry>& entries) {
+std::string keyframeDbIndexJson(const KeyframeDbProvenance& p,
+                                const std::vector<KeyframeDbEntry>& entries) {
   json ks = json::array();
   for (const auto& e : entries)
-    ks.push_back({{"frame", e.frame}, {"file", e.file}, {"bytes", e.bytes}, {"checksum", hex64(e.checksum)}});
+    ks.push_back({{"frame", e.frame},
+                  {"file", e.file},
+                  {"bytes", e.bytes},
+                  {"checksum", hex64(e.checksum)}});
   json doc = {{"format", kKeyframeDbFormat},
               {"version", kKeyframeDbVersion},
               {"checksum", "hw64 (docs/keyframe-db.md)"},
@@ -375,12 +385,13 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    return makeError("keyframe database '" + dir + "': " +
-                     (fs::exists(dir, ec) ? "not a directory" : "no such directory") +
+    return makeError("keyframe database '" + dir +
+                     "': " + (fs::exists(dir, ec) ? "not a directory" : "no such directory") +
                      " (expected a directory written by 'hybridwalk bake')");
   const std::string indexPath = dir + "/index.json";
   if (!fs::exists(indexPath, ec))
-    return makeError(indexPath + ": missing (expected the index of a database written by 'hybridwalk bake'; "
+    return makeError(indexPath +
+                     ": missing (expected the index of a database written by 'hybridwalk bake'; "
                      "an interrupted bake leaves none)");
   auto text = readFile(indexPath);
   if (!text) return text.error();
@@ -392,7 +403,8 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
     return makeError(indexPath + ": not valid JSON: " + e.what());
   }
   const json& ix = db.index_;
-  auto field = [&](const char* key, json::value_t t1, json::value_t t2 = json::value_t::discarded) -> Status {
+  auto field = [&](const char* key, json::value_t t1,
+                   json::value_t t2 = json::value_t::discarded) -> Status {
     if (!ix.is_object() || !ix.contains(key) || (ix[key].type() != t1 && ix[key].type() != t2))
       return makeError(indexPath + ": expected key '" + key + "' of the right type");
     return {};
@@ -403,15 +415,16 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
                      kKeyframeDbFormat + "'");
   HW_TRY(field("version", json::value_t::number_unsigned, json::value_t::number_integer));
   if (ix["version"].get<long long>() != kKeyframeDbVersion)
-    return makeError(indexPath + ": database version " + ix["version"].dump() + ", this program reads version " +
-                     std::to_string(kKeyframeDbVersion) + " (re-bake the database)");
+    return makeError(indexPath + ": database version " + ix["version"].dump() +
+                     ", this program reads version " + std::to_string(kKeyframeDbVersion) +
+                     " (re-bake the database)");
   HW_TRY(field("baked_from", json::value_t::object));
   HW_TRY(field("keyframes", json::value_t::array));
   std::set<int> seen;
   for (const json& k : ix["keyframes"]) {
-    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number_integer() || !k.contains("file") ||
-        !k["file"].is_string() || !k.contains("bytes") || !k["bytes"].is_number_integer() ||
-        !k.contains("checksum") || !k["checksum"].is_string())
+    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number_integer() ||
+        !k.contains("file") || !k["file"].is_string() || !k.contains("bytes") ||
+        !k["bytes"].is_number_integer() || !k.contains("checksum") || !k["checksum"].is_string())
       return makeError(indexPath + ": keyframe entry " + k.dump() +
                        ": expected {frame: int, file: string, bytes: int, checksum: hex string}");
     KeyframeDbEntry e;
@@ -425,9 +438,11 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
       return makeError(indexPath + ": keyframe " + std::to_string(e.frame) + ": checksum '" + cs +
                        "', expected 16 hex digits");
     if (e.file.find('/') != std::string::npos || e.file.find("..") != std::string::npos)
-      return makeError(indexPath + ": keyframe file '" + e.file + "' must be a plain name inside the database");
+      return makeError(indexPath + ": keyframe file '" + e.file +
+                       "' must be a plain name inside the database");
     if (e.frame < 0 || !seen.insert(e.frame).second)
-      return makeError(indexPath + ": keyframe frame " + std::to_string(e.frame) + " negative or listed twice");
+      return makeError(indexPath + ": keyframe frame " + std::to_string(e.frame) +
+                       " negative or listed twice");
     db.entries_.push_back(e);
   }
   if (db.entries_.empty()) return makeError(indexPath + ": lists no keyframes");
@@ -446,11 +461,13 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want) const {
   const json& have = index_["baked_from"];
   const json expected = provenanceJson(want);
   auto mismatch = [&](const std::string& key, const json* h, const json& v) {
-    return makeError(dir_ + "/index.json: database baked for " + key + " " +
-                     (h ? h->dump() : std::string("(missing)")) + ", this run has " + v.dump() +
-                     " (bake the database again with the same scene, path, --frames, --depth and LOD options)");
+    return makeError(
+        dir_ + "/index.json: database baked for " + key + " " +
+        (h ? h->dump() : std::string("(missing)")) + ", this run has " + v.dump() +
+        " (bake the database again with the same scene, path, --frames, --depth and LOD options)");
   };
-  for (const char* k : {"scene", "triangles", "path_hash", "frames", "resolution", "depth_mode", "mesh"}) {
+  for (const char* k :
+       {"scene", "triangles", "path_hash", "frames", "resolution", "depth_mode", "mesh"}) {
     const std::string key = k;
     const json& value = expected[key];
     const json* h = have.contains(key) ? &have[key] : nullptr;
@@ -474,8 +491,9 @@ Status KeyframeDb::read(int frame, CachedKeyframe& out) const {
   auto bytes = readFile(path);
   if (!bytes) return bytes.error();
   if (bytes->size() != it->bytes)
-    return makeError(path + ": " + (bytes->size() < it->bytes ? "truncated" : "grown") + ": index.json says " +
-                     std::to_string(it->bytes) + " bytes, file has " + std::to_string(bytes->size()));
+    return makeError(path + ": " + (bytes->size() < it->bytes ? "truncated" : "grown") +
+                     ": index.json says " + std::to_string(it->bytes) + " bytes, file has " +
+                     std::to_string(bytes->size()));
   HW_TRY(decodeKeyframe(*bytes, path, out));
   const std::uint64_t headerSum = *keyframeFileChecksum(*bytes, path);
   if (headerSum != it->checksum)

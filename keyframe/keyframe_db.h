@@ -6,11 +6,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 #include "keyframe/keyframe_cache.h"
@@ -50,8 +49,9 @@ struct KeyframeDbProvenance {
   std::string pathHash;       // hw64 of the camera path's canonical JSON (hex)
   int frames = 0;             // frames of the walk (after --frames)
   int width = 0, height = 0;
-  std::string depthMode;      // depthModeName
-  nlohmann::json mesh;        // {"method","tau","tau_px","criterion","planarity","merge_strips","merge_tolerance"}
+  std::string depthMode;  // depthModeName
+  nlohmann::json
+      mesh;  // {"method","tau","tau_px","criterion","planarity","merge_strips","merge_tolerance"}
 };
 nlohmann::json meshOptionsJson(const LodOptions& lod);
 nlohmann::json provenanceJson(const KeyframeDbProvenance& p);
@@ -64,7 +64,8 @@ struct KeyframeDbEntry {
 };
 
 // index.json text of a database (entries sorted by frame).
-std::string keyframeDbIndexJson(const KeyframeDbProvenance& p, const std::vector<KeyframeDbEntry>& entries);
+std::string keyframeDbIndexJson(const KeyframeDbProvenance& p,
+                                const std::vector<KeyframeDbEntry>& entries);
 
 class KeyframeDb {
  public:
@@ -95,7 +96,8 @@ class KeyframeDb {
 // CachedKeyframe::renderMs is the time the call took (wait + read + decode);
 // the mesh build timings are zero (not stored). `hits`, if given, counts the
 // calls served by a prefetch.
-KeyframeCache::Source makeKeyframeDbSource(std::shared_ptr<const KeyframeDb> db, bool prefetch = true,
+KeyframeCache::Source makeKeyframeDbSource(std::shared_ptr<const KeyframeDb> db,
+                                           bool prefetch = true,
                                            std::shared_ptr<std::size_t> hits = nullptr);
 
 }  // namespace hw::keyframe

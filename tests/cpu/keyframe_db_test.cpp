@@ -1,5 +1,7 @@
 // Keyframe database (keyframe/keyframe_db.h): round trip, checksum, every
 // truncation length, flipped bytes, version/magic mismatch, index checks.
+#include "keyframe/keyframe_db.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -8,7 +10,6 @@
 #include <thread>
 
 #include "core/file_io.h"
-#include "keyframe/keyframe_db.h"
 
 namespace hw::keyframe {
 namespace {
@@ -57,7 +58,9 @@ CachedKeyframe sample(int w, int h, int quads, unsigned seed) {
   return c;
 }
 
-std::string encode(const CachedKeyframe& c) { return encodeKeyframe(c.frame, c.keyframe, c.mesh, c.render); }
+std::string encode(const CachedKeyframe& c) {
+  return encodeKeyframe(c.frame, c.keyframe, c.mesh, c.render);
+}
 
 TEST(KeyframeDb, RoundTripIsExact) {
   const CachedKeyframe a = sample(13, 9, 20, 1);
@@ -114,7 +117,8 @@ TEST(KeyframeDb, EveryFlippedByteIsDetected) {
     ASSERT_FALSE(s.ok()) << "byte " << i;
     EXPECT_NE(s.error().message.find("flip.hwkf"), std::string::npos);
     if (i >= kKeyframeHeaderBytes) {
-      EXPECT_NE(s.error().message.find("checksum mismatch"), std::string::npos) << s.error().message;
+      EXPECT_NE(s.error().message.find("checksum mismatch"), std::string::npos)
+          << s.error().message;
     }
   }
 }

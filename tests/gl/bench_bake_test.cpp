@@ -45,7 +45,8 @@ TEST_F(BakeTest, WalkFromDatabaseGivesBitIdenticalFrames) {
   ASSERT_TRUE(a.ok() && b.ok());
   std::vector<keyframe::KeyframeDbEntry> entries = *b;
   entries.insert(entries.end(), a->begin(), a->end());
-  const auto prov = bench::bakeProvenance("indoor", scene.triangleCount(), path, frames, bo.lod, bo.depthMode);
+  const auto prov =
+      bench::bakeProvenance("indoor", scene.triangleCount(), path, frames, bo.lod, bo.depthMode);
   ASSERT_TRUE(bench::writeBakeIndex(bo.outDir, prov, entries).ok());
 
   auto db = keyframe::KeyframeDb::open(bo.outDir);
@@ -61,7 +62,8 @@ TEST_F(BakeTest, WalkFromDatabaseGivesBitIdenticalFrames) {
   bench::WalkOptions baked = live;
   baked.outDir = dir + "/baked";
   baked.keyframeFrames = db->keyframeFrames();
-  baked.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
+  baked.keyframeSource =
+      keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   auto r1 = bench::runWalk(scene, "indoor", path, live);
   auto r2 = bench::runWalk(scene, "indoor", path, baked);
   ASSERT_TRUE(r1.ok() && r2.ok());
@@ -73,7 +75,8 @@ TEST_F(BakeTest, WalkFromDatabaseGivesBitIdenticalFrames) {
     ASSERT_TRUE(p1.ok() && p2.ok());
     EXPECT_TRUE(*p1 == *p2) << "frame " << i << " differs";
   }
-  EXPECT_EQ(r1->report["summary"]["quads_per_keyframe"], r2->report["summary"]["quads_per_keyframe"]);
+  EXPECT_EQ(r1->report["summary"]["quads_per_keyframe"],
+            r2->report["summary"]["quads_per_keyframe"]);
   EXPECT_EQ(r1->report["summary"]["psnr"], r2->report["summary"]["psnr"]);
 }
 
