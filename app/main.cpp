@@ -10,8 +10,10 @@
 #include <string>
 
 #include "app/viewer.h"
+#include "bench/bake.h"
 #include "bench/bench_suite.h"
 #include "bench/export.h"
+#include "bench/slurm.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
 #include "bench/walk.h"
@@ -21,6 +23,7 @@
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_db.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
@@ -178,6 +181,114 @@ int runRender(const Common& o, const std::string& outDir) {
   return 0;
 }
 
+
+// ---- chunked runs (bake, sweep): --slurm / --workers, docs/slurm.md ----------
+struct DistributeCli {
+  bench::DistributeOptions d;
+  int chunk = -1;  // hidden: run one chunk (what a worker or array task runs)
+};
+
+void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
+  c->add_flag("--slurm", o.d.slurm,
+              std::string("Run the chunks as one Slurm job array (sbatch --array; one task per chunk of ") +
+                  unit + "), poll squeue, merge; SIGINT/SIGTERM cancels the job (docs/slurm.md)");
+  c->add_option("--workers", o.d.workers,
+                "Without --slurm: run the chunks in this many local worker processes (1 = in-process)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  c->add_flag("--resume", o.d.resume,
+              "Rerun only the chunks without a result from an earlier failed or interrupted run of the "
+              "same command (same --out)");
+  c->add_option("--slurm-partition", o.d.partition, "sbatch --partition");
+  c->add_option("--slurm-account", o.d.account, "sbatch --account");
+  c->add_option("--slurm-time", o.d.timeLimit, "sbatch --time: time limit per array task (minutes, or [D-]H:MM:SS), e.g. 30 or 1:00:00");
+  c->add_option("--sbatch-arg", o.d.sbatchArgs,
+                "Extra sbatch argument, passed as given (repeatable); write it with = since it starts "
+                "with a dash: --sbatch-arg=--qos=short")
+      ->allow_extra_args(false);
+  c->add_option("--slurm-poll", o.d.pollSeconds, "Seconds between squeue polls")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
+  c->add_option("--chunk", o.chunk, "internal: run one chunk")->group("");
+}
+
+int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string& out, int perTask,
+            bool quiet, DistributeCli& dist, int argc, char** argv) {
+  namespace fs = std::filesystem;
+  if (out.empty()) return fail("bake: --out DIR is required (the keyframe database directory)");
+  auto in = loadInputs(c);
+  if (!in) return fail(in.error().message);
+  bench::BakeOptions bo;
+  bo.lod = lod;
+  bo.depthMode = depthModeOf(c.depth);
+  bo.maxFrames = c.frames;
+  bo.outDir = out;
+  bo.progress = !quiet && dist.chunk < 0;
+  const int frames = bench::bakeFrames(in->path, c.frames);
+  const std::vector<int> keys = bench::bakeKeyframeList(in->path, frames);
+  const auto prov = bench::bakeProvenance(c.scene, in->scene.triangleCount(), in->path, frames, lod, bo.depthMode);
+  const int chunks = static_cast<int>((keys.size() + perTask - 1) / perTask);
+  const std::string work = out + "/.chunks";
+  auto range = [&](int i) {
+    return std::vector<int>(keys.begin() + i * perTask,
+                            keys.begin() + std::min<std::size_t>(keys.size(), (i + 1) * std::size_t(perTask)));
+  };
+  auto entryJson = [](const keyframe::KeyframeDbEntry& e) {
+    return json{{"frame", e.frame}, {"file", e.file}, {"bytes", e.bytes}, {"checksum", keyframe::hex64(e.checksum)}};
+  };
+  if (dist.chunk >= 0) {
+    if (dist.chunk >= chunks)
+      return fail("--chunk: " + std::to_string(dist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
+    if (auto st = bench::failChunkHook(dist.chunk); !st) return fail(st.error().message);
+    auto e = bench::bakeKeyframes(in->scene, in->path, range(dist.chunk), bo);
+    if (!e) return fail(e.error().message);
+    json ej = json::array();
+    for (const auto& x : *e) ej.push_back(entryJson(x));
+    if (auto st = bench::writeChunkResult(work, dist.chunk, {{"entries", ej}}); !st) return fail(st.error().message);
+    return 0;
+  }
+  if (dist.d.resume && !bench::distributed(dist.d))
+    return fail("--resume: only with --slurm or --workers N > 1 (an in-process bake has no chunks to resume)");
+  if (auto st = ensureWritableDir(out); !st) return fail(st.error().message);
+  // A fresh bake replaces an earlier database: its index first (a directory
+  // without index.json is an incomplete database), then its keyframe files.
+  std::error_code ec;
+  fs::remove(out + "/index.json", ec);
+  if (!dist.d.resume)
+    for (const auto& f : fs::directory_iterator(out, ec))
+      if (f.path().extension() == ".hwkf") fs::remove(f.path(), ec);
+  std::vector<keyframe::KeyframeDbEntry> entries;
+  Stopwatch sw;
+  if (bench::distributed(dist.d)) {
+    bench::ChunkPlan plan{"bake", work, chunks, bench::chunkCommand(argc, argv)};
+    dist.d.progress = !quiet;
+    if (auto st = bench::runChunks(plan, dist.d); !st) return fail(st.error().message);
+    auto results = bench::readChunkResults(plan);
+    if (!results) return fail(results.error().message);
+    for (const json& r : *results)
+      for (const json& e : r.at("entries")) {
+        keyframe::KeyframeDbEntry x;
+        x.frame = e.at("frame").get<int>();
+        x.file = e.at("file").get<std::string>();
+        x.bytes = e.at("bytes").get<std::uint64_t>();
+        x.checksum = std::stoull(e.at("checksum").get<std::string>(), nullptr, 16);
+        entries.push_back(x);
+      }
+  } else {
+    auto e = bench::bakeKeyframes(in->scene, in->path, keys, bo);
+    if (!e) return fail(e.error().message);
+    entries = std::move(*e);
+  }
+  if (auto st = bench::writeBakeIndex(out, prov, entries); !st) return fail(st.error().message);
+  if (bench::distributed(dist.d)) bench::removeChunkDir(work);
+  std::uint64_t bytes = 0;
+  for (const auto& e : entries) bytes += e.bytes;
+  std::printf("bake: %zu keyframes of %d frames (%s, %dx%d) in %.1f s, %.1f MB; database %s (index.json)\n",
+              entries.size(), frames, c.scene.c_str(), in->path.width, in->path.height, sw.ms() / 1000.0,
+              bytes / 1e6, out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -277,6 +388,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   walk->add_option("--out", walkOut, "Output directory")->capture_default_str();
   walk->add_flag("--quiet", quiet, "No progress line");
+  std::string walkKeyframes;
+  walk->add_option("--keyframes", walkKeyframes,
+                   "Read keyframes and quad meshes from this database (written by 'hybridwalk bake' "
+                   "with the same scene, path, --frames, --depth and LOD options) instead of rendering "
+                   "them; the next keyframe is read ahead on a background thread");
 
   // render
   Common renderC;
@@ -334,6 +450,43 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(-1, 1 << 30));
   sweep->add_option("--out", sweepOut, "Output directory")->capture_default_str();
   sweep->add_flag("--quiet", sweepQuiet, "No progress line");
+  int sweepPerTask = 4;
+  DistributeCli sweepDist;
+  sweep->add_option("--cells-per-task", sweepPerTask,
+                    "Sweep cells (walks) per chunk (--slurm array task or --workers process)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  addDistribute(sweep, sweepDist, "--cells-per-task cells");
+
+  // bake
+  Common bakeC;
+  std::string bakeOut, bakeTau = "2^11", bakeCriterion = "five-point", bakePlanarity = "stencil";
+  double bakeTauPx = 0;
+  bool bakeMerge = false, bakeQuiet = false;
+  int bakePerTask = 8;
+  DistributeCli bakeDist;
+  auto* bakeCmd = app.add_subcommand(
+      "bake", "Render and mesh every keyframe of a path ahead of time into a keyframe database "
+              "(one checksummed file per keyframe + index.json, docs/keyframe-db.md) for "
+              "'walk --keyframes DB'; --slurm runs it as a Slurm job array");
+  addCommon(bakeCmd, bakeC);
+  bakeCmd->add_option("--out", bakeOut, "Database directory (created)")->required();
+  bakeCmd->add_option("--tau", bakeTau, "LOD threshold in z' units, as for walk")->capture_default_str();
+  bakeCmd->add_option("--tau-px", bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
+      ->check(CLI::NonNegativeNumber);
+  bakeCmd->add_option("--criterion", bakeCriterion, "five-point or per-axis-max, as for walk")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  bakeCmd->add_option("--planarity", bakePlanarity, "stencil or region-local, as for walk")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  bakeCmd->add_flag("--merge-strips", bakeMerge, "Merge adjacent coplanar leaves, as for walk");
+  bakeCmd->add_option("--keyframes-per-task", bakePerTask,
+                      "Keyframes per chunk (--slurm array task or --workers process)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  bakeCmd->add_flag("--quiet", bakeQuiet, "No progress line");
+  addDistribute(bakeCmd, bakeDist, "--keyframes-per-task keyframes");
 
   // bench
   std::string benchOut = "out/bench", benchSizes;
@@ -530,6 +683,17 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  if (bakeCmd->parsed()) {
+    keyframe::LodOptions lo;
+    if (!parseTau(bakeTau, &lo.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + bakeTau + "'");
+    lo.tauParallaxPx = bakeTauPx;
+    keyframe::parseDeltaCriterion(bakeCriterion.c_str(), &lo.criterion);
+    keyframe::parsePlanarity(bakePlanarity.c_str(), &lo.planarity);
+    lo.mergeStrips = bakeMerge;
+    return runBake(bakeC, lo, bakeOut, bakePerTask, bakeQuiet, bakeDist, argc, argv);
+  }
+
   if (benchCmd->parsed()) {
     bench::BenchOptions bo;
     bo.outDir = benchOut;
@@ -598,7 +762,40 @@ int main(int argc, char** argv) {
     if (!in) return fail(in.error().message);
     so.glRenderer = in->context->renderer();
     so.glVersion = in->context->version();
-    auto res = bench::runSweep(in->scene, sweepC.scene, in->path, so);
+    auto cells = bench::sweepCellCount(in->path, so);
+    if (!cells) return fail(cells.error().message);
+    const int chunks = (*cells + sweepPerTask - 1) / sweepPerTask;
+    const std::string work = sweepOut + "/.chunks";
+    if (sweepDist.chunk >= 0) {  // one chunk: its cells' rows to WORK/chunk-I.json
+      if (sweepDist.chunk >= chunks)
+        return fail("--chunk: " + std::to_string(sweepDist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
+      if (auto st = bench::failChunkHook(sweepDist.chunk); !st) return fail(st.error().message);
+      so.progress = false;
+      auto rows = bench::runSweepCells(in->scene, sweepC.scene, in->path, so, sweepDist.chunk * sweepPerTask,
+                                       std::min(*cells, (sweepDist.chunk + 1) * sweepPerTask));
+      if (!rows) return fail(rows.error().message);
+      if (auto st = bench::writeChunkResult(work, sweepDist.chunk, {{"rows", *rows}}); !st)
+        return fail(st.error().message);
+      return 0;
+    }
+    if (sweepDist.d.resume && !bench::distributed(sweepDist.d))
+      return fail("--resume: only with --slurm or --workers N > 1 (an in-process sweep has no chunks to resume)");
+    Result<json> res = makeError("");
+    if (bench::distributed(sweepDist.d)) {
+      if (auto st = ensureWritableDir(sweepOut); !st) return fail(st.error().message);
+      bench::ChunkPlan plan{"sweep", work, chunks, bench::chunkCommand(argc, argv)};
+      sweepDist.d.progress = !sweepQuiet;
+      if (auto st = bench::runChunks(plan, sweepDist.d); !st) return fail(st.error().message);
+      auto results = bench::readChunkResults(plan);
+      if (!results) return fail(results.error().message);
+      json rows = json::array();
+      for (const json& r : *results)
+        for (const json& row : r.at("rows")) rows.push_back(row);
+      res = bench::finishSweep(in->scene, sweepC.scene, in->path, so, rows);
+      if (res) bench::removeChunkDir(work);
+    } else {
+      res = bench::runSweep(in->scene, sweepC.scene, in->path, so);
+    }
     if (!res) return fail(res.error().message);
     std::printf("sweep: %zu runs; open %s/index.html (plots, table, overlays); data in sweep.json, sweep.csv\n",
                 (*res)["rows"].size(), sweepOut.c_str());
@@ -684,6 +881,17 @@ int main(int argc, char** argv) {
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
   wo.glVersion = in->context->version();
+  if (!walkKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
+    auto db = keyframe::KeyframeDb::open(walkKeyframes);
+    if (!db) return fail(db.error().message);
+    const int frames = bench::bakeFrames(in->path, walkC.frames);
+    if (auto st = db->checkMatches(bench::bakeProvenance(walkC.scene, in->scene.triangleCount(), in->path,
+                                                         frames, wo.lod, wo.depthMode));
+        !st)
+      return fail(st.error().message);
+    wo.keyframeFrames = db->keyframeFrames();
+    wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
+  }
   auto res = bench::runWalk(in->scene, walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
   const json& s = res->report["summary"];

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
 #include <set>
 
 #include "bench/html_report.h"
@@ -48,59 +50,87 @@ struct Run {
   }
 };
 
+struct Plan {
+  std::vector<double> taus;
+  int frames = 0;
+  int overlayFrame = 0;
+  std::vector<Run> cells;
+};
+
+// The sweep's cells in output order: per τ the LOD runs (five-point, per-axis
+// max, the three edge-strip variants), then one uniform-tiles cell per τ
+// (matched to that τ's five-point quad count), then per-pixel. Every cell is
+// independent: a tiles cell finds its tile size itself (see runSweepCells).
+Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
+  Plan p;
+  p.taus = opt.taus;
+  if (p.taus.empty())
+    for (int e = 6; e <= 16; ++e) p.taus.push_back(std::ldexp(1.0, e));
+  for (double t : p.taus)
+    if (!std::isfinite(t) || t < 0) return makeError("sweep: tau must be finite and >= 0, got " + fmt(t));
+  p.frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
+  p.overlayFrame = opt.overlayFrame;
+  if (p.overlayFrame < 0) {
+    p.overlayFrame = (p.frames / 2) / path.keyframeEvery * path.keyframeEvery;
+  } else if (p.overlayFrame >= p.frames) {
+    return makeError("sweep: overlay frame " + std::to_string(p.overlayFrame) + " is past the last frame " +
+                     std::to_string(p.frames - 1));
+  }
+  using keyframe::Planarity;
+  for (double tau : p.taus) {
+    p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0});
+    if (opt.bothCriteria)
+      p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::PerAxisMax, tau, 0});
+    if (opt.variants) {  // issue #9's edge-strip variants, five-point
+      p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                         Planarity::RegionLocal, false});
+      p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                         Planarity::Stencil, true});
+      p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                         Planarity::RegionLocal, true});
+    }
+  }
+  if (opt.baselines) {
+    // tileSize 0 = "matched to tau", resolved when the cell runs.
+    for (double tau : p.taus)
+      p.cells.push_back({keyframe::MeshMethod::UniformTiles, keyframe::DeltaCriterion::FivePoint, tau, 0});
+    p.cells.push_back({keyframe::MeshMethod::PerPixel, keyframe::DeltaCriterion::FivePoint, 0, 1});
+  }
+  return p;
+}
+
+bool isFivePointStencil(const Run& r) {
+  return r.mesh == keyframe::MeshMethod::Lod && r.criterion == keyframe::DeltaCriterion::FivePoint &&
+         r.planarity == keyframe::Planarity::Stencil && !r.mergeStrips;
+}
+
 }  // namespace
 
-Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
-                      const scenes::CameraPath& path, const SweepOptions& opt) {
-  if (opt.outDir.empty()) return makeError("sweep: an output directory is required");
-  std::vector<double> taus = opt.taus;
-  if (taus.empty())
-    for (int e = 6; e <= 16; ++e) taus.push_back(std::ldexp(1.0, e));
-  for (double t : taus)
-    if (!std::isfinite(t) || t < 0) return makeError("sweep: tau must be finite and >= 0, got " + fmt(t));
+Result<int> sweepCellCount(const scenes::CameraPath& path, const SweepOptions& opt) {
+  auto p = makePlan(path, opt);
+  if (!p) return p.error();
+  return static_cast<int>(p->cells.size());
+}
 
-  const int frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
-  int overlayFrame = opt.overlayFrame;
-  if (overlayFrame < 0) {
-    overlayFrame = (frames / 2) / path.keyframeEvery * path.keyframeEvery;
-  } else if (overlayFrame >= frames) {
-    return makeError("sweep: overlay frame " + std::to_string(overlayFrame) + " is past the last frame " +
-                     std::to_string(frames - 1));
-  }
-  HW_TRY(ensureWritableDir(opt.outDir));
-  HW_TRY(ensureWritableDir(opt.outDir + "/overlays"));
-
-  // The overlay keyframe: one render, one mesh per τ.
+Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneLabel,
+                           const scenes::CameraPath& path, const SweepOptions& opt, int first, int last) {
+  auto planR = makePlan(path, opt);
+  if (!planR) return planR.error();
+  const Plan& plan = *planR;
+  HW_CHECK(first >= 0 && first <= last && last <= static_cast<int>(plan.cells.size()));
+  const int frames = plan.frames;
   keyframe::RenderOptions ropt;
   ropt.depthMode = opt.depthMode;
   auto renderer = keyframe::GeometryRenderer::create(scene, ropt);
   if (!renderer) return renderer.error();
-  keyframe::Keyframe overlayKf;
-  HW_TRY((*renderer)->renderKeyframe(path.cameraAt(overlayFrame), overlayKf));
+  std::optional<keyframe::Keyframe> overlayKf;  // rendered when a tiles cell needs it
 
-  std::vector<Run> runs;
-  using keyframe::Planarity;
-  for (double tau : taus) {
-    runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0});
-    if (opt.bothCriteria)
-      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::PerAxisMax, tau, 0});
-    if (opt.variants) {  // issue #9's edge-strip variants, five-point
-      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
-                      Planarity::RegionLocal, false});
-      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
-                      Planarity::Stencil, true});
-      runs.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
-                      Planarity::RegionLocal, true});
-    }
-  }
-  json rows = json::array();
-  std::set<int> tileSizesDone;
   Stopwatch all;
-  auto progress = [&](std::size_t done, std::size_t total, const std::string& what) {
+  auto progress = [&](int done, int total, const std::string& what) {
     if (!opt.progress) return;
     const double el = all.ms() / 1000.0;
-    std::fprintf(stderr, "\rsweep: run %zu/%zu (%s) elapsed %.0f s, ETA %.0f s        ", done + 1,
-                 total, what.c_str(), el, done > 0 ? el / done * (total - done) : 0.0);
+    std::fprintf(stderr, "\rsweep: run %d/%d (%s) elapsed %.0f s, ETA %.0f s        ", done + 1, total,
+                 what.c_str(), el, done > 0 ? el / done * (total - done) : 0.0);
     std::fflush(stderr);
   };
 
@@ -121,11 +151,12 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     auto res = runWalk(scene, sceneLabel, path, w);
     if (!res) return res.error();
     const json& s = res->report["summary"];
+    const bool lod = r.mesh == keyframe::MeshMethod::Lod;
     json row = {{"method", r.method()},
                 {"mesh", keyframe::meshMethodName(r.mesh)},
-                {"criterion", r.mesh == keyframe::MeshMethod::Lod ? json(keyframe::deltaCriterionName(r.criterion)) : json(nullptr)},
-                {"variant", r.mesh == keyframe::MeshMethod::Lod ? json(r.variant()) : json(nullptr)},
-                {"tau", r.mesh == keyframe::MeshMethod::Lod ? json(r.tau) : json(nullptr)},
+                {"criterion", lod ? json(keyframe::deltaCriterionName(r.criterion)) : json(nullptr)},
+                {"variant", lod ? json(r.variant()) : json(nullptr)},
+                {"tau", lod ? json(r.tau) : json(nullptr)},
                 {"tile_size", r.mesh == keyframe::MeshMethod::UniformTiles ? json(r.tileSize) : json(nullptr)},
                 {"quads_per_keyframe", s["quads_per_keyframe"]},
                 {"one_pixel_leaves_per_keyframe", s["one_pixel_leaves_per_keyframe"]},
@@ -138,43 +169,105 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
     return row;
   };
 
-  // Total is known only after the five-point runs fix the tile sizes; count
-  // the baselines as one per τ plus per-pixel.
-  const std::size_t total = runs.size() + (opt.baselines ? taus.size() + 1 : 0);
-  std::size_t done = 0;
-  for (const Run& r : runs) {
-    progress(done, total, r.method() + " tau " + tauLabel(r.tau));
-    auto row = runOne(r);
-    if (!row) return row.error();
-    rows.push_back(*row);
-    ++done;
-  }
-  if (opt.baselines) {
-    // Uniform tiles at the quad count of each five-point τ (median per keyframe).
-    for (const json& row : std::vector<json>(rows.begin(), rows.end())) {
-      if (row["criterion"] != "five-point" || row["variant"] != "stencil") continue;
-      const double q = num(row["quads_per_keyframe"]["median"]);
-      const int ts = keyframe::tileSizeForQuadCount(overlayKf, static_cast<long long>(std::llround(q)));
-      if (tileSizesDone.count(ts)) {
-        ++done;
+  // Median five-point quads per keyframe at τ: from this call's five-point
+  // row if it ran here, else from the keyframes' meshes (the same numbers the
+  // walk's summary takes its median of).
+  std::map<double, double> fivePointQuads;
+  auto quadsAt = [&](double tau) -> Result<double> {
+    if (auto it = fivePointQuads.find(tau); it != fivePointQuads.end()) return it->second;
+    keyframe::LodBuilder builder;
+    keyframe::LodOptions lo;
+    lo.tau = tau;
+    keyframe::Keyframe kf;
+    keyframe::QuadMesh mesh;
+    std::vector<double> quads;
+    for (int k : keyframe::KeyframeSchedule{frames, path.keyframeEvery, {}}.keyframes()) {
+      HW_TRY((*renderer)->renderKeyframe(path.cameraAt(k), kf));
+      HW_TRY(builder.build(kf, lo, &mesh));
+      quads.push_back(static_cast<double>(mesh.stats.quads));
+    }
+    return fivePointQuads[tau] = median(quads);
+  };
+
+  json rows = json::array();
+  std::set<int> tileSizesDone;
+  const int total = last - first;
+  for (int c = first; c < last; ++c) {
+    Run r = plan.cells[static_cast<std::size_t>(c)];
+    if (r.mesh == keyframe::MeshMethod::UniformTiles) {
+      if (!overlayKf) {
+        overlayKf.emplace();
+        HW_TRY((*renderer)->renderKeyframe(path.cameraAt(plan.overlayFrame), *overlayKf));
+      }
+      auto q = quadsAt(r.tau);
+      if (!q) return q.error();
+      r.tileSize = keyframe::tileSizeForQuadCount(*overlayKf, static_cast<long long>(std::llround(*q)));
+      if (!tileSizesDone.insert(r.tileSize).second) {
+        // Same tile size as an earlier τ: one row per tile size (the merge drops repeats too).
+        rows.push_back({{"cell", c}, {"duplicate_tile_size", r.tileSize}});
         continue;
       }
-      tileSizesDone.insert(ts);
-      Run r{keyframe::MeshMethod::UniformTiles, keyframe::DeltaCriterion::FivePoint, 0, ts};
-      progress(done, total, "uniform tiles " + std::to_string(ts) + " px");
-      auto br = runOne(r);
-      if (!br) return br.error();
-      (*br)["matched_to_tau"] = row["tau"];
-      rows.push_back(*br);
-      ++done;
+      progress(c - first, total, "uniform tiles " + std::to_string(r.tileSize) + " px");
+    } else {
+      progress(c - first, total,
+               r.mesh == keyframe::MeshMethod::PerPixel ? std::string("per-pixel") : r.method() + " tau " + tauLabel(r.tau));
     }
-    progress(done, total, "per-pixel");
-    auto pr = runOne(Run{keyframe::MeshMethod::PerPixel, keyframe::DeltaCriterion::FivePoint, 0, 1});
-    if (!pr) return pr.error();
-    rows.push_back(*pr);
-    ++done;
+    auto row = runOne(r);
+    if (!row) return row.error();
+    if (r.mesh == keyframe::MeshMethod::UniformTiles) (*row)["matched_to_tau"] = r.tau;
+    if (isFivePointStencil(r)) fivePointQuads[r.tau] = num((*row)["quads_per_keyframe"]["median"]);
+    (*row)["cell"] = c;
+    rows.push_back(*row);
   }
-  if (opt.progress) std::fprintf(stderr, "\rsweep: %zu runs in %.0f s%40s\n", done, all.ms() / 1000.0, "");
+  if (opt.progress)
+    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%40s\n", total, all.ms() / 1000.0, "");
+  return rows;
+}
+
+Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
+                      const scenes::CameraPath& path, const SweepOptions& opt) {
+  auto n = sweepCellCount(path, opt);
+  if (!n) return n.error();
+  if (opt.outDir.empty()) return makeError("sweep: an output directory is required");
+  HW_TRY(ensureWritableDir(opt.outDir));
+  auto rows = runSweepCells(scene, sceneLabel, path, opt, 0, *n);
+  if (!rows) return rows.error();
+  return finishSweep(scene, sceneLabel, path, opt, *rows);
+}
+
+Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLabel,
+                         const scenes::CameraPath& path, const SweepOptions& opt, const json& cellRows) {
+  if (opt.outDir.empty()) return makeError("sweep: an output directory is required");
+  auto planR = makePlan(path, opt);
+  if (!planR) return planR.error();
+  const Plan& plan = *planR;
+  const std::vector<double>& taus = plan.taus;
+  const int frames = plan.frames;
+  const int overlayFrame = plan.overlayFrame;
+  if (!cellRows.is_array() || cellRows.size() != plan.cells.size())
+    return makeError("sweep: merge got " + std::to_string(cellRows.size()) + " cell results, expected " +
+                     std::to_string(plan.cells.size()));
+  // One row per cell in cell order; uniform tiles once per tile size (the
+  // first τ that asks for it), as a single in-process run writes them.
+  json rows = json::array();
+  std::set<int> tileSizesDone;
+  for (std::size_t c = 0; c < cellRows.size(); ++c) {
+    json row = cellRows[c];
+    if (!row.is_object() || !row.contains("cell") || row["cell"] != c)
+      return makeError("sweep: merge: cell result " + std::to_string(c) + " is missing or out of order");
+    if (row.contains("duplicate_tile_size")) continue;
+    if (row["mesh"] == "uniform-tiles" && !tileSizesDone.insert(row["tile_size"].get<int>()).second) continue;
+    row.erase("cell");
+    rows.push_back(row);
+  }
+  HW_TRY(ensureWritableDir(opt.outDir));
+  HW_TRY(ensureWritableDir(opt.outDir + "/overlays"));
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = opt.depthMode;
+  auto renderer = keyframe::GeometryRenderer::create(scene, ropt);
+  if (!renderer) return renderer.error();
+  keyframe::Keyframe overlayKf;
+  HW_TRY((*renderer)->renderKeyframe(path.cameraAt(overlayFrame), overlayKf));
 
   // Overlays, one per τ (five-point), on the same keyframe.
   json overlays = json::array();

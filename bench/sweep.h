@@ -30,7 +30,28 @@ struct SweepOptions {
 };
 
 // A GL context must be current. Returns the sweep.json document.
+// Equivalent to runSweepCells over every cell, then finishSweep.
 Result<nlohmann::json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
                                 const scenes::CameraPath& path, const SweepOptions& options);
+
+// The sweep as independent cells (for chunked runs, bench/slurm.h): cell
+// order = per τ the LOD runs (five-point, per-axis max, three variants),
+// then one uniform-tiles cell per τ, then per-pixel. A uniform-tiles cell
+// finds its tile size itself — the five-point median quads per keyframe at its
+// τ (taken from a five-point row run in the same call, else from meshing the
+// keyframes: the same numbers), matched on the overlay keyframe — so no cell
+// depends on another's result. A tiles cell whose tile size an earlier cell of
+// the same call already ran returns {"cell", "duplicate_tile_size"}.
+Result<int> sweepCellCount(const scenes::CameraPath& path, const SweepOptions& options);
+// Runs cells [first, last): a JSON array, one row per cell, each with "cell".
+Result<nlohmann::json> runSweepCells(const scenes::Scene& scene, const std::string& sceneLabel,
+                                     const scenes::CameraPath& path, const SweepOptions& options,
+                                     int first, int last);
+// Merges every cell's row (in cell order) into sweep.json/.csv, plots,
+// overlays and index.html; uniform tiles are kept once per tile size (the
+// first τ in order), as one in-process run writes them.
+Result<nlohmann::json> finishSweep(const scenes::Scene& scene, const std::string& sceneLabel,
+                                   const scenes::CameraPath& path, const SweepOptions& options,
+                                   const nlohmann::json& cellRows);
 
 }  // namespace hw::bench
