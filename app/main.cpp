@@ -85,7 +85,12 @@ bool parseList(const std::string& s, std::vector<double>* out) {
 
 // Keyframe schedule options of walk and schedule-study (issue #8).
 void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
-                       bool withAuto) {
+                       std::string& planBy, bool withAuto) {
+  c->add_option("--plan-by", planBy,
+                "Adaptive schedule: worst (every in-between frame predicted >= the target) or "
+                "mean (each segment's mean predicted PSNR >= the target)")
+      ->check(CLI::IsMember({"worst", "mean"}))
+      ->capture_default_str();
   c->add_option("--min-gap", p.minGap, "Adaptive schedule: fewest frames between keyframes")
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
@@ -288,7 +293,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   walk->add_option("--out", walkOut, "Output directory")->capture_default_str();
   walk->add_flag("--quiet", quiet, "No progress line");
-  std::string schedule = "fixed", walkPredictor = "holes";
+  std::string schedule = "fixed", walkPredictor = "holes", walkPlanBy = "worst";
   keyframe::PlannerOptions walkPlan;
   walk->add_option("--schedule", schedule,
                    "Keyframes: fixed (every keyframe_every frames of the path) or adaptive "
@@ -300,7 +305,7 @@ int main(int argc, char** argv) {
                    "Adaptive schedule: lowest predicted in-between PSNR, dB (the predictor's fit "
                    "is calibrated on the built-in indoor scene)")
       ->capture_default_str();
-  addPlannerOptions(walk, walkPlan, walkPredictor, false);
+  addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
 
   // render
   Common renderC;
@@ -433,7 +438,8 @@ int main(int argc, char** argv) {
   // schedule-study
   Common studyC;
   std::string studyOut = "out/schedule", studyTau = "2^11", studyPlanarity = "region-local",
-              studySpacings = "4,6,8,10,15,20", studyTargets, studyPredictor = "auto";
+              studySpacings = "4,6,8,10,15,20", studyTargets, studyPredictor = "auto",
+              studyPlanBy = "worst";
   bool studyNoMerge = false, studyQuiet = false;
   int studyRef = 10;
   keyframe::PlannerOptions studyPlan;
@@ -458,8 +464,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   studyCmd->add_option("--targets", studyTargets,
                        "Target PSNRs of the adaptive runs, dB, comma-separated (default: per fixed "
-                       "spacing, its lowest predicted in-between PSNR)");
-  addPlannerOptions(studyCmd, studyPlan, studyPredictor, true);
+                       "spacing, the target whose plan has as many keyframes)");
+  addPlannerOptions(studyCmd, studyPlan, studyPredictor, studyPlanBy, true);
   studyCmd->add_option("--out", studyOut, "Output directory")->capture_default_str();
   studyCmd->add_flag("--quiet", studyQuiet, "No progress lines");
 
@@ -656,6 +662,7 @@ int main(int argc, char** argv) {
     std::vector<double> v;
     if (!parseList(studySpacings, &v) || v.empty())
       return fail("--spacings: expected comma-separated frame counts like 4,10,20, got '" + studySpacings + "'");
+    so.fixedSpacings.clear();
     for (double d : v) {
       if (d < 1 || d != std::floor(d))
         return fail("--spacings: expected whole numbers >= 1, got '" + studySpacings + "'");
@@ -673,6 +680,7 @@ int main(int argc, char** argv) {
     so.walk.depthMode = depthModeOf(studyC.depth);
     so.walk.maxFrames = studyC.frames;
     so.referenceSpacing = studyRef;
+    keyframe::parsePlanCriterion(studyPlanBy.c_str(), &studyPlan.criterion);
     so.planner = studyPlan;
     so.autoPredictor = studyPredictor == "auto";
     if (!so.autoPredictor) keyframe::parsePredictor(studyPredictor.c_str(), &so.planner.predictor);
@@ -775,6 +783,7 @@ int main(int argc, char** argv) {
       return fail("--min-gap " + std::to_string(walkPlan.minGap) + " exceeds --max-gap " +
                   std::to_string(walkPlan.maxGap));
     keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
+    keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
     keyframe::RenderOptions ropt;
     ropt.depthMode = wo.depthMode;
     auto probeRenderer = keyframe::GeometryRenderer::create(in->scene, ropt);
@@ -784,7 +793,8 @@ int main(int argc, char** argv) {
         **probeRenderer, [&](int i) { return in->path.cameraAt(i); }, frames, walkPlan);
     if (!plan) return fail(plan.error().message);
     wo.keyframeFrames = plan->keyframes;
-    plannerJson = {{"predictor", walkPredictor}, {"target_psnr", walkPlan.targetPsnrDb},
+    plannerJson = {{"predictor", walkPredictor}, {"criterion", walkPlanBy},
+                   {"target_psnr", walkPlan.targetPsnrDb},
                    {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
                    {"probe_size", walkPlan.probeSize},
                    {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope}}},

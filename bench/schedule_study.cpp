@@ -191,16 +191,44 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   };
   for (Run& r : fixedRuns) predictedStats(r);
 
-  // 3. Planned schedules.
+  // 3. Planned schedules: at the given targets, or, per fixed run, at the
+  // target whose plan has the same number of keyframes (found by bisection on
+  // the shared probe; plans are monotone in the target for nested predictors).
   std::vector<double> targets = opt.targets;
-  if (targets.empty())
+  if (targets.empty()) {
+    std::vector<double> predictedAll;
     for (const Run& r : fixedRuns)
-      if (std::isfinite(r.predictedMin)) targets.push_back(r.predictedMin);
+      for (const FrameSample& s : r.samples)
+        predictedAll.push_back(fit.predict(keyframe::predictorValue(s.features, planner.predictor)));
+    const double lo0 = percentile(predictedAll, 0) - 10, hi0 = percentile(predictedAll, 100) + 10;
+    for (const Run& r : fixedRuns) {
+      const int want = static_cast<int>(r.keyframes.size());
+      double lo = lo0, hi = hi0, bestT = lo0;
+      int bestCount = -1;
+      for (int it = 0; it < 24; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        keyframe::PlannerOptions po = planner;
+        po.targetPsnrDb = mid;
+        auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
+        if (!plan) return plan.error();
+        const int got = static_cast<int>(plan->keyframes.size());
+        if (bestCount < 0 || std::abs(got - want) < std::abs(bestCount - want) ||
+            (std::abs(got - want) == std::abs(bestCount - want) && got < bestCount))
+          bestCount = got, bestT = mid;
+        if (got == want) break;
+        (got < want ? lo : hi) = mid;
+      }
+      say("target " + fmt(bestT) + " dB gives " + std::to_string(bestCount) + " keyframes (fixed every " +
+          fmt(r.param, 0) + ": " + std::to_string(want) + ")");
+      targets.push_back(bestT);
+    }
+  }
   std::vector<Run> adaptiveRuns;
   for (double target : targets) {
     say("adaptive, target " + fmt(target) + " dB");
     keyframe::PlannerOptions po = planner;
     po.targetPsnrDb = target;
+    // A cold plan (fresh probe): its time is what a walk would pay.
     auto plan = keyframe::planAdaptiveSchedule(**probeRendererR, cameraOf, frames, po);
     if (!plan) return plan.error();
     Run run;
@@ -334,6 +362,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
               {"planner", {{"predictor", keyframe::predictorName(planner.predictor)},
                            {"predictor_chosen_by_correlation", opt.autoPredictor},
                            {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}}},
+                           {"criterion", keyframe::planCriterionName(planner.criterion)},
                            {"min_gap", planner.minGap},
                            {"max_gap", planner.maxGap},
                            {"probe_size", planner.probeSize},
@@ -348,10 +377,24 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   HW_TRY(writeFileAtomic(opt.outDir + "/schedule.json", doc.dump(1)));
   HW_TRY(writeFileAtomic(opt.outDir + "/runs.csv", csvRuns));
   HW_TRY(writeFileAtomic(opt.outDir + "/correlation.csv", csvCorr));
+  {
+    std::string csv = "schedule,param,frame,k0,k1,psnr,rel_distance,angle_deg,hole_fraction,stretch,"
+                      "disagreement_mse\n";
+    for (const std::vector<Run>* group : {&fixedRuns, &adaptiveRuns})
+      for (const Run& r : *group)
+        for (const FrameSample& s : r.samples)
+          csv += r.schedule + "," + fmt(r.param) + "," + std::to_string(s.frame) + "," +
+                 std::to_string(s.k0) + "," + std::to_string(s.k1) + "," + fmt(s.psnr, 3) + "," +
+                 fmt(s.features.relDistance, 5) + "," + fmt(s.features.angleDeg, 4) + "," +
+                 fmt(s.features.holeFraction, 6) + "," + fmt(s.features.stretch, 5) + "," +
+                 fmt(s.features.disagreementMse, 3) + "\n";
+    HW_TRY(writeFileAtomic(opt.outDir + "/frames.csv", csv));
+  }
 
   HtmlReport page("Keyframe schedules: fixed vs error-driven (" + sceneLabel + ")");
   page.paragraph("Scene " + sceneLabel + ", " + std::to_string(frames) + " frames. Planner: predictor " +
-                 keyframe::predictorName(planner.predictor) + ", gaps " + std::to_string(planner.minGap) +
+                 keyframe::predictorName(planner.predictor) + ", criterion " +
+                 keyframe::planCriterionName(planner.criterion) + ", gaps " + std::to_string(planner.minGap) +
                  ".." + std::to_string(planner.maxGap) + " frames, probes " +
                  std::to_string(planner.probeSize) + " px. " + doc["note"].get<std::string>());
   page.images({"schedule.png", "predictor.png"});

@@ -23,10 +23,10 @@ struct ScheduleStudyOptions {
   std::string outDir = "out/schedule";
   std::vector<int> fixedSpacings{4, 6, 8, 10, 15, 20};  // frames between keyframes
   int referenceSpacing = 10;  // the headline compares with this fixed spacing
-  // Target PSNRs (dB) of the planned runs. Empty: one per fixed spacing N,
-  // the lowest predicted PSNR among fixed-N's in-between frames — the fixed
-  // schedule itself meets that target, so a nested predictor needs at most
-  // as many keyframes (and the targets do not depend on the fit's scale).
+  // Target PSNRs (dB) of the planned runs. Empty: one per fixed spacing,
+  // the target whose plan has as many keyframes as that fixed run (so the
+  // curves compare at equal counts; the targets then do not depend on the
+  // fit's scale, only on its sign).
   std::vector<double> targets;
   keyframe::PlannerOptions planner;  // gaps, probe size, predictor; target ignored
   // Plan with the predictor whose rank correlation with the measured PSNR of

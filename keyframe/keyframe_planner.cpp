@@ -18,8 +18,19 @@ namespace hw::keyframe {
 
 // ---- schedule ---------------------------------------------------------------
 
+const char* planCriterionName(PlanCriterion c) {
+  return c == PlanCriterion::WorstFrame ? "worst" : "mean";
+}
+
+bool parsePlanCriterion(const char* s, PlanCriterion* out) {
+  if (std::strcmp(s, "worst") == 0) return *out = PlanCriterion::WorstFrame, true;
+  if (std::strcmp(s, "mean") == 0) return *out = PlanCriterion::SegmentMean, true;
+  return false;
+}
+
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int maxGap,
-                               const FramePredictor& predict, long* evaluations) {
+                               const FramePredictor& predict, long* evaluations,
+                               PlanCriterion criterion) {
   HW_CHECK_GE(frames, 1);
   HW_CHECK_GE(minGap, 1);
   HW_CHECK_GE(maxGap, minGap);
@@ -31,9 +42,15 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
     int best = std::min(k + minGap, last);  // the minimum gap is taken even if it fails
     for (int b = best; b <= std::min(k + maxGap, last); ++b) {
       bool ok = true;
-      for (int i = k + 1; i < b && ok; ++i) {
-        ++evals;
-        ok = predict(k, b, i) >= targetPsnrDb;  // NaN fails
+      if (criterion == PlanCriterion::WorstFrame) {
+        for (int i = k + 1; i < b && ok; ++i) {
+          ++evals;
+          ok = predict(k, b, i) >= targetPsnrDb;  // NaN fails
+        }
+      } else if (b - k > 1) {
+        double sum = 0;
+        for (int i = k + 1; i < b; ++i, ++evals) sum += predict(k, b, i);
+        ok = sum / (b - k - 1) >= targetPsnrDb;  // NaN fails
       }
       if (!ok) break;
       best = b;
@@ -310,6 +327,8 @@ Result<const KeyframeProbe::Probe*> KeyframeProbe::probe(int frame) {
 }
 
 Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
+  const auto key = std::make_tuple(k0, k1, frame);
+  if (auto it = memo_.find(key); it != memo_.end()) return it->second;
   auto ra = probe(k0);
   if (!ra) return ra.error();
   auto rb = probe(k1);
@@ -345,6 +364,7 @@ Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
   f.holeFraction = static_cast<double>(holes) / static_cast<double>(la.state.size());
   f.disagreementMse = both ? sq / static_cast<double>(both) : 0.0;
   splatMs_ += sw.ms();
+  memo_.emplace(key, f);
   return f;
 }
 
@@ -353,15 +373,25 @@ Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
 Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
                                         const std::function<Camera(int)>& cameraOf, int frames,
                                         const PlannerOptions& opt) {
+  Stopwatch sw;
+  KeyframeProbe probe(renderer, cameraOf, opt.probeSize);
+  auto r = planAdaptiveSchedule(probe, frames, opt);
+  if (r) r->planMs = sw.ms();
+  return r;
+}
+
+Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames, const PlannerOptions& opt) {
   if (opt.minGap < 1 || opt.maxGap < opt.minGap)
     return makeError("keyframe planner: gaps must satisfy 1 <= min-gap <= max-gap, got min " +
                      std::to_string(opt.minGap) + ", max " + std::to_string(opt.maxGap));
   if (!std::isfinite(opt.targetPsnrDb))
     return makeError("keyframe planner: target PSNR must be finite");
+  if (frames < 1) return makeError("keyframe planner: no frames to plan");
   Stopwatch sw;
+  const double renderBefore = probe.renderMs();
+  const int probesBefore = probe.probesRendered();
   PlanResult r;
   r.fit = opt.useDefaultFit ? defaultFit(opt.predictor) : opt.fit;
-  KeyframeProbe probe(renderer, cameraOf, opt.probeSize);
   Status failure;
   auto predict = [&](int k0, int k1, int i) {
     if (!failure.ok()) return -std::numeric_limits<double>::infinity();
@@ -372,11 +402,12 @@ Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
     }
     return r.fit.predict(predictorValue(*f, opt.predictor));
   };
-  r.keyframes = planKeyframes(frames, opt.targetPsnrDb, opt.minGap, opt.maxGap, predict, &r.evaluations);
+  r.keyframes = planKeyframes(frames, opt.targetPsnrDb, opt.minGap, opt.maxGap, predict,
+                              &r.evaluations, opt.criterion);
   if (!failure.ok()) return failure.error();
   r.planMs = sw.ms();
-  r.probeRenderMs = probe.renderMs();
-  r.probes = probe.probesRendered();
+  r.probeRenderMs = probe.renderMs() - renderBefore;
+  r.probes = probe.probesRendered() - probesBefore;
   return r;
 }
 

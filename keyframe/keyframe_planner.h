@@ -8,6 +8,7 @@
 // keyframes (a few ms each), never on the frame's own reference image.
 #include <functional>
 #include <map>
+#include <tuple>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,14 @@ namespace hw::keyframe {
 // k1, k0 < frame < k1.
 using FramePredictor = std::function<double(int k0, int k1, int frame)>;
 
+// What must reach the target in a segment between two keyframes.
+enum class PlanCriterion {
+  WorstFrame,   // every in-between frame (the predicted minimum)
+  SegmentMean,  // the mean predicted PSNR of the segment's in-between frames
+};
+const char* planCriterionName(PlanCriterion c);  // "worst", "mean"
+bool parsePlanCriterion(const char* s, PlanCriterion* out);
+
 // Greedy forward plan: from keyframe k, the next keyframe is the farthest
 // k1 ∈ [k + minGap, k + maxGap] such that every frame between k and k1 — and
 // every shorter candidate before it — is predicted ≥ targetPsnrDb (the scan
@@ -33,8 +42,11 @@ using FramePredictor = std::function<double(int k0, int k1, int frame)>;
 // it), this is the fewest keyframes meeting the target, and a stricter target
 // never gives fewer. Preconditions (checked): frames ≥ 1, 1 ≤ minGap ≤ maxGap.
 // `evaluations` (optional) counts predictor calls.
+// With SegmentMean the segment's mean must reach the target instead (the
+// nesting argument then no longer holds).
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int maxGap,
-                               const FramePredictor& predict, long* evaluations = nullptr);
+                               const FramePredictor& predict, long* evaluations = nullptr,
+                               PlanCriterion criterion = PlanCriterion::WorstFrame);
 
 // ---- the predictor ----------------------------------------------------------
 
@@ -95,6 +107,8 @@ class KeyframeProbe {
   KeyframeProbe(const KeyframeProbe&) = delete;
   KeyframeProbe& operator=(const KeyframeProbe&) = delete;
 
+  // Features are memoised per (k0, k1, frame): repeated plans on one probe
+  // (e.g. a search for the target giving N keyframes) cost little.
   Result<FrameFeatures> features(int k0, int k1, int frame);
   int probesRendered() const { return probesRendered_; }
   double renderMs() const { return renderMs_; }  // probe draws + readbacks
@@ -109,6 +123,7 @@ class KeyframeProbe {
   std::function<Camera(int)> cameraOf_;
   int probeSize_;
   std::map<int, std::unique_ptr<Probe>> probes_;
+  std::map<std::tuple<int, int, int>, FrameFeatures> memo_;
   int probesRendered_ = 0;
   double renderMs_ = 0, splatMs_ = 0;
   struct Scratch;
@@ -120,6 +135,7 @@ struct PlannerOptions {
   int minGap = 2;              // frames between consecutive keyframes (≥ 1)
   int maxGap = 30;             // frames (≥ minGap)
   Predictor predictor = Predictor::Holes;
+  PlanCriterion criterion = PlanCriterion::WorstFrame;
   bool useDefaultFit = true;   // fit = defaultFit(predictor)
   PsnrFit fit;                 // used when !useDefaultFit
   int probeSize = 64;          // pixels, longer side of the probes
@@ -138,6 +154,10 @@ struct PlanResult {
 // must be current; `renderer` draws the probes (its scene is the walk's).
 Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
                                         const std::function<Camera(int)>& cameraOf, int frames,
+                                        const PlannerOptions& options);
+// The same on an existing probe (its probes and memoised features are
+// reused; planMs then excludes what earlier plans already paid for).
+Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
                                         const PlannerOptions& options);
 
 }  // namespace hw::keyframe
