@@ -87,9 +87,10 @@ bool parseList(const std::string& s, std::vector<double>* out) {
 void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto) {
   c->add_option("--plan-by", planBy,
-                "Adaptive schedule: worst (every in-between frame predicted >= the target) or "
-                "mean (each segment's mean predicted PSNR >= the target)")
-      ->check(CLI::IsMember({"worst", "mean"}))
+                "Adaptive schedule: worst (every in-between frame predicted >= the target), "
+                "mean (each segment's mean predicted PSNR >= the target) or median (each "
+                "segment's median: at least half of all in-between frames)")
+      ->check(CLI::IsMember({"worst", "mean", "median"}))
       ->capture_default_str();
   c->add_option("--min-gap", p.minGap, "Adaptive schedule: fewest frames between keyframes")
       ->check(CLI::Range(1, 1 << 20))
@@ -696,13 +697,16 @@ int main(int argc, char** argv) {
     auto n = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
     std::printf("schedule-study: predictor %s; fixed every %g: %.1f keyframes/100 frames, median %.2f dB;\n"
                 "  adaptive at that median: %.1f keyframes/100 (%s%.0f %% fewer; goal 30 %%); at equal count "
-                "median %+.2f dB, p5 %+.2f dB\n  open %s/index.html\n",
+                "median %+.2f dB, p5 %+.2f dB;\n  at its p5 (%.2f dB): %.1f keyframes/100 (%s%.0f %% fewer)\n  open %s/index.html\n",
                 (*res)["planner"]["predictor"].get<std::string>().c_str(), n(h["reference_spacing"]),
                 n(h["reference_keyframes_per_100"]), n(h["reference_psnr_median"]),
                 n(h["adaptive_keyframes_per_100_at_reference_median"]),
                 h["adaptive_keyframes_is_upper_bound"].get<bool>() ? ">= " : "",
                 100 * n(h["keyframe_reduction"]), n(h["psnr_median_gain_at_equal_count"]),
-                n(h["psnr_p5_gain_at_equal_count"]), studyOut.c_str());
+                n(h["psnr_p5_gain_at_equal_count"]), n(h["reference_psnr_p5"]),
+                n(h["adaptive_keyframes_per_100_at_reference_p5"]),
+                h["adaptive_keyframes_at_p5_is_upper_bound"].get<bool>() ? ">= " : "",
+                100 * n(h["keyframe_reduction_at_p5"]), studyOut.c_str());
     return 0;
   }
 

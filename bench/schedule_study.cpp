@@ -260,6 +260,9 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   const double adaptiveKf = firstCrossing(ax, amed, refPsnr, &bounded);
   const double reduction = 1.0 - adaptiveKf / refKf;
   const double medAtEqual = interpolate(ax, amed, refKf), p5AtEqual = interpolate(ax, ap5, refKf);
+  // The same at the reference's 5th percentile (the floor a worst-frame plan targets).
+  bool boundedP5 = false;
+  const double adaptiveKfP5 = firstCrossing(ax, ap5, refRun->psnrP5, &boundedP5);
   json headline = {
       {"reference_spacing", refRun->param},
       {"reference_keyframes_per_100", refKf},
@@ -270,6 +273,9 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       {"keyframe_reduction", finiteOrNull(reduction)},
       {"goal_reduction", 0.30},
       {"goal_met", std::isfinite(reduction) && reduction >= 0.30},
+      {"adaptive_keyframes_per_100_at_reference_p5", finiteOrNull(adaptiveKfP5)},
+      {"adaptive_keyframes_at_p5_is_upper_bound", boundedP5},
+      {"keyframe_reduction_at_p5", finiteOrNull(1.0 - adaptiveKfP5 / refKf)},
       {"adaptive_psnr_median_at_reference_count", finiteOrNull(medAtEqual)},
       {"adaptive_psnr_p5_at_reference_count", finiteOrNull(p5AtEqual)},
       {"psnr_median_gain_at_equal_count", finiteOrNull(medAtEqual - refPsnr)},

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -19,12 +20,18 @@ namespace hw::keyframe {
 // ---- schedule ---------------------------------------------------------------
 
 const char* planCriterionName(PlanCriterion c) {
-  return c == PlanCriterion::WorstFrame ? "worst" : "mean";
+  switch (c) {
+    case PlanCriterion::WorstFrame: return "worst";
+    case PlanCriterion::SegmentMean: return "mean";
+    case PlanCriterion::SegmentMedian: return "median";
+  }
+  return "?";
 }
 
 bool parsePlanCriterion(const char* s, PlanCriterion* out) {
   if (std::strcmp(s, "worst") == 0) return *out = PlanCriterion::WorstFrame, true;
   if (std::strcmp(s, "mean") == 0) return *out = PlanCriterion::SegmentMean, true;
+  if (std::strcmp(s, "median") == 0) return *out = PlanCriterion::SegmentMedian, true;
   return false;
 }
 
@@ -38,6 +45,8 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
   long evals = 0;
   const int last = frames - 1;
   int k = 0;
+  std::vector<double> segment;
+  segment.reserve(static_cast<std::size_t>(maxGap));
   while (k < last) {
     int best = std::min(k + minGap, last);  // the minimum gap is taken even if it fails
     for (int b = best; b <= std::min(k + maxGap, last); ++b) {
@@ -47,10 +56,21 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
           ++evals;
           ok = predict(k, b, i) >= targetPsnrDb;  // NaN fails
         }
-      } else if (b - k > 1) {
+      } else if (criterion == PlanCriterion::SegmentMean && b - k > 1) {
         double sum = 0;
         for (int i = k + 1; i < b; ++i, ++evals) sum += predict(k, b, i);
         ok = sum / (b - k - 1) >= targetPsnrDb;  // NaN fails
+      } else if (b - k > 1) {
+        segment.clear();
+        for (int i = k + 1; i < b; ++i, ++evals) {
+          const double v = predict(k, b, i);
+          segment.push_back(std::isnan(v) ? -std::numeric_limits<double>::infinity() : v);
+        }
+        // Sorted descending, element ⌊(n−1)/2⌋: at least half of the frames
+        // are ≥ the value tested.
+        const auto mid = segment.begin() + static_cast<std::ptrdiff_t>((segment.size() - 1) / 2);
+        std::nth_element(segment.begin(), mid, segment.end(), std::greater<double>());
+        ok = *mid >= targetPsnrDb;
       }
       if (!ok) break;
       best = b;

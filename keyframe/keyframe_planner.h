@@ -29,8 +29,11 @@ using FramePredictor = std::function<double(int k0, int k1, int frame)>;
 enum class PlanCriterion {
   WorstFrame,   // every in-between frame (the predicted minimum)
   SegmentMean,  // the mean predicted PSNR of the segment's in-between frames
+  // The median of the segment's in-between frames: then at least half of all
+  // in-between frames are predicted ≥ target, i.e. the walk's median is.
+  SegmentMedian,
 };
-const char* planCriterionName(PlanCriterion c);  // "worst", "mean"
+const char* planCriterionName(PlanCriterion c);  // "worst", "mean", "median"
 bool parsePlanCriterion(const char* s, PlanCriterion* out);
 
 // Greedy forward plan: from keyframe k, the next keyframe is the farthest
@@ -42,8 +45,8 @@ bool parsePlanCriterion(const char* s, PlanCriterion* out);
 // it), this is the fewest keyframes meeting the target, and a stricter target
 // never gives fewer. Preconditions (checked): frames ≥ 1, 1 ≤ minGap ≤ maxGap.
 // `evaluations` (optional) counts predictor calls.
-// With SegmentMean the segment's mean must reach the target instead (the
-// nesting argument then no longer holds).
+// With SegmentMean/SegmentMedian the segment's mean/median must reach the
+// target instead (the nesting argument then holds only approximately).
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int maxGap,
                                const FramePredictor& predict, long* evaluations = nullptr,
                                PlanCriterion criterion = PlanCriterion::WorstFrame);
@@ -131,7 +134,7 @@ class KeyframeProbe {
 };
 
 struct PlannerOptions {
-  double targetPsnrDb = 30.0;  // in-between frames should not fall below this, dB
+  double targetPsnrDb = 24.0;  // in-between frames should not fall below this, dB (predicted)
   int minGap = 2;              // frames between consecutive keyframes (≥ 1)
   int maxGap = 30;             // frames (≥ minGap)
   Predictor predictor = Predictor::Holes;

@@ -115,6 +115,29 @@ TEST(KeyframePlanner, AStricterTargetNeverGivesFewerKeyframes) {
   }
 }
 
+TEST(KeyframePlanner, MedianCriterionKeepsHalfTheFramesAboveTheTargetWithFewerKeyframes) {
+  std::mt19937 rng(5);
+  std::vector<double> diff(240);
+  for (auto& v : diff) v = std::uniform_real_distribution<double>(0.2, 3.0)(rng);
+  const auto pred = difficultyPredictor(diff);
+  for (double target : {30.0, 38.0, 44.0}) {
+    const auto med = planKeyframes(240, target, 2, 40, pred, nullptr, PlanCriterion::SegmentMedian);
+    const auto worst = planKeyframes(240, target, 2, 40, pred, nullptr, PlanCriterion::WorstFrame);
+    expectValidSchedule(med, 240, 2, 40);
+    EXPECT_LE(med.size(), worst.size()) << target;
+    int good = 0, all = 0;
+    for (std::size_t j = 1; j < med.size(); ++j)
+      for (int i = med[j - 1] + 1; i < med[j]; ++i, ++all) good += pred(med[j - 1], med[j], i) >= target;
+    EXPECT_GE(2 * good, all) << target;
+  }
+  PlanCriterion c;
+  for (const char* n : {"worst", "mean", "median"}) {
+    ASSERT_TRUE(parsePlanCriterion(n, &c));
+    EXPECT_STREQ(planCriterionName(c), n);
+  }
+  EXPECT_FALSE(parsePlanCriterion("p5", &c));
+}
+
 TEST(KeyframePlannerFit, LineThroughExactPointsIsRecovered) {
   const std::vector<double> x{1, 2, 3, 4, std::nan("")}, y{5, 3, 1, -1, 7};
   const PsnrFit f = fitLine(x, y);
