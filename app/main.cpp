@@ -111,7 +111,7 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
                             "of a low-res frame neither keyframe's forward splat covers), distance "
                             "(eye offset / keyframe median depth), angle (view direction, deg), "
                             "stretch (mean |log2| area change of warped pixels), disagreement "
-                            "(colour MSE between the two warped probes)") +
+                            "(colour MSE between the two warped probes), holes+distance (both, two-term fit)") +
                     (withAuto ? "; auto = the one that correlates best with the fixed walks' PSNR" : ""))
       ->check(CLI::IsMember(names))
       ->capture_default_str();
@@ -696,17 +696,17 @@ int main(int argc, char** argv) {
     const json& h = (*res)["headline"];
     auto n = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
     std::printf("schedule-study: predictor %s; fixed every %g: %.1f keyframes/100 frames, median %.2f dB;\n"
-                "  adaptive at that median: %.1f keyframes/100 (%s%.0f %% fewer; goal 30 %%); at equal count "
-                "median %+.2f dB, p5 %+.2f dB;\n  at its p5 (%.2f dB): %.1f keyframes/100 (%s%.0f %% fewer)\n  open %s/index.html\n",
+                "  adaptive at that median: %s%.1f keyframes/100 (%+.0f %% vs fixed; goal -30 %%); at equal count "
+                "median %+.2f dB, p5 %+.2f dB;\n  at its p5 (%.2f dB): %s%.1f keyframes/100 (%+.0f %% vs fixed)\n  open %s/index.html\n",
                 (*res)["planner"]["predictor"].get<std::string>().c_str(), n(h["reference_spacing"]),
                 n(h["reference_keyframes_per_100"]), n(h["reference_psnr_median"]),
+                h["adaptive_keyframes_is_upper_bound"].get<bool>() ? "<= " : "",
                 n(h["adaptive_keyframes_per_100_at_reference_median"]),
-                h["adaptive_keyframes_is_upper_bound"].get<bool>() ? ">= " : "",
-                100 * n(h["keyframe_reduction"]), n(h["psnr_median_gain_at_equal_count"]),
+                -100 * n(h["keyframe_reduction"]), n(h["psnr_median_gain_at_equal_count"]),
                 n(h["psnr_p5_gain_at_equal_count"]), n(h["reference_psnr_p5"]),
+                h["adaptive_keyframes_at_p5_is_upper_bound"].get<bool>() ? "<= " : "",
                 n(h["adaptive_keyframes_per_100_at_reference_p5"]),
-                h["adaptive_keyframes_at_p5_is_upper_bound"].get<bool>() ? ">= " : "",
-                100 * n(h["keyframe_reduction_at_p5"]), studyOut.c_str());
+                -100 * n(h["keyframe_reduction_at_p5"]), studyOut.c_str());
     return 0;
   }
 
@@ -777,15 +777,15 @@ int main(int argc, char** argv) {
   wo.outDir = walkOut;
   wo.progress = !quiet;
   wo.keepFrames = false;  // only the summary is printed; frames go to report.json
+  if (schedule == "adaptive" && walkPlan.minGap > walkPlan.maxGap)
+    return fail("--min-gap " + std::to_string(walkPlan.minGap) + " exceeds --max-gap " +
+                std::to_string(walkPlan.maxGap));
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
   wo.glVersion = in->context->version();
   json plannerJson;
   if (schedule == "adaptive") {
-    if (walkPlan.minGap > walkPlan.maxGap)
-      return fail("--min-gap " + std::to_string(walkPlan.minGap) + " exceeds --max-gap " +
-                  std::to_string(walkPlan.maxGap));
     keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
     keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
     keyframe::RenderOptions ropt;
@@ -801,7 +801,8 @@ int main(int argc, char** argv) {
                    {"target_psnr", walkPlan.targetPsnrDb},
                    {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
                    {"probe_size", walkPlan.probeSize},
-                   {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope}}},
+                   {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope},
+                            {"slope2", plan->fit.slope2}}},
                    {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
                    {"probes", plan->probes}, {"evaluations", plan->evaluations}};
     std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",

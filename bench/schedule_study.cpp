@@ -143,35 +143,45 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   for (const Run& r : fixedRuns)
     if (std::abs(r.param - opt.referenceSpacing) < std::abs(refRun->param - opt.referenceSpacing))
       refRun = &r;
+  // Correlation of the fitted prediction (least squares on these walks) with
+  // the measured PSNR: positive = useful. For one-regressor predictors the
+  // rank correlation equals that of the feature itself, sign flipped.
   json correlation = json::array();
-  std::string csvCorr = "predictor,pearson_pooled,spearman_pooled,pearson_ref,spearman_ref,fit_intercept,fit_slope,samples\n";
+  std::string csvCorr = "predictor,pearson_pooled,spearman_pooled,pearson_ref,spearman_ref,fit_intercept,"
+                        "fit_slope,fit_slope2,samples\n";
   Predictor best = opt.planner.predictor;
   double bestRho = -1;
   std::map<Predictor, keyframe::PsnrFit> fits;
+  std::vector<keyframe::FrameFeatures> feats;
+  std::vector<double> measured;
+  for (const Run& r : fixedRuns)
+    for (const FrameSample& s : r.samples) feats.push_back(s.features), measured.push_back(s.psnr);
   for (Predictor pr : keyframe::kAllPredictors) {
+    const keyframe::PsnrFit pf = keyframe::fitPredictor(feats, measured, pr);
+    fits[pr] = pf;
     std::vector<double> x, y, xr, yr;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples) {
-        x.push_back(keyframe::predictorValue(s.features, pr));
+        x.push_back(keyframe::predictPsnr(pf, s.features, pr));
         y.push_back(s.psnr);
         if (&r == refRun) xr.push_back(x.back()), yr.push_back(s.psnr);
       }
     const double pp = keyframe::pearson(x, y), sp = keyframe::spearman(x, y);
     const double pref = keyframe::pearson(xr, yr), sref = keyframe::spearman(xr, yr);
-    const keyframe::PsnrFit fit = keyframe::fitLine(x, y);
-    fits[pr] = fit;
     correlation.push_back({{"predictor", keyframe::predictorName(pr)},
                            {"pearson_pooled", finiteOrNull(pp)},
                            {"spearman_pooled", finiteOrNull(sp)},
                            {"pearson_reference_spacing", finiteOrNull(pref)},
                            {"spearman_reference_spacing", finiteOrNull(sref)},
-                           {"fit", {{"intercept", finiteOrNull(fit.intercept)}, {"slope", finiteOrNull(fit.slope)}}},
+                           {"fit", {{"intercept", finiteOrNull(pf.intercept)}, {"slope", finiteOrNull(pf.slope)},
+                                    {"slope2", finiteOrNull(pf.slope2)}}},
                            {"samples", x.size()}});
     csvCorr += std::string(keyframe::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) + "," +
-               fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(fit.intercept, 3) + "," +
-               fmt(fit.slope, 3) + "," + std::to_string(x.size()) + "\n";
-    // PSNR falls as every feature grows: the useful correlation is negative.
-    if (std::isfinite(sp) && -sp > bestRho && fit.slope < 0) bestRho = -sp, best = pr;
+               fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(pf.intercept, 3) + "," +
+               fmt(pf.slope, 3) + "," + fmt(pf.slope2, 3) + "," + std::to_string(x.size()) + "\n";
+    // A feature whose fit rises with it (PSNR up as quality drops) is not a
+    // usable predictor, whatever its correlation.
+    if (std::isfinite(sp) && sp > bestRho && pf.slope < 0 && pf.slope2 <= 0) bestRho = sp, best = pr;
   }
   keyframe::PlannerOptions planner = opt.planner;
   if (opt.autoPredictor) {
@@ -181,11 +191,11 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   }
   const keyframe::PsnrFit fit = planner.useDefaultFit ? keyframe::defaultFit(planner.predictor) : planner.fit;
   say(std::string("predictor ") + keyframe::predictorName(planner.predictor) + ": PSNR = " +
-      fmt(fit.intercept) + " + " + fmt(fit.slope) + " * x");
+      fmt(fit.intercept) + " + " + fmt(fit.slope) + " * x + " + fmt(fit.slope2) + " * x2");
   auto predictedStats = [&](Run& r) {
     std::vector<double> v;
     for (const FrameSample& s : r.samples)
-      v.push_back(fit.predict(keyframe::predictorValue(s.features, planner.predictor)));
+      v.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
     r.predictedMin = percentile(v, 0);
     r.predictedMedian = median(v);
   };
@@ -199,7 +209,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     std::vector<double> predictedAll;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples)
-        predictedAll.push_back(fit.predict(keyframe::predictorValue(s.features, planner.predictor)));
+        predictedAll.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
     const double lo0 = percentile(predictedAll, 0) - 10, hi0 = percentile(predictedAll, 100) + 10;
     for (const Run& r : fixedRuns) {
       const int want = static_cast<int>(r.keyframes.size());
@@ -339,20 +349,20 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     sc.lines = false;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples) {
-        sc.x.push_back(keyframe::predictorValue(s.features, planner.predictor));
+        sc.x.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
         sc.y.push_back(s.psnr);
       }
     Series line;
-    line.label = "fit";
+    line.label = "measured = predicted";
     line.markers = false;
     if (!sc.x.empty()) {
       const auto [lo, hi] = std::minmax_element(sc.x.begin(), sc.x.end());
       line.x = {*lo, *hi};
-      line.y = {fit.predict(*lo), fit.predict(*hi)};
+      line.y = {*lo, *hi};
     }
     PlotOptions pp;
-    pp.title = "Predictor vs measured PSNR: " + sceneLabel;
-    pp.xLabel = std::string("log10(") + keyframe::predictorName(planner.predictor) + " feature)";
+    pp.title = "Predicted vs measured PSNR: " + sceneLabel;
+    pp.xLabel = std::string("predicted PSNR, ") + keyframe::predictorName(planner.predictor) + " (dB)";
     pp.yLabel = "measured in-between PSNR (dB)";
     HW_TRY(writePlot(opt.outDir + "/predictor.png", {sc, line}, pp));
   }
@@ -367,7 +377,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                         {"compose_mode", s0["compose_mode"]}, {"sky_backdrop", s0["sky_backdrop"]}}},
               {"planner", {{"predictor", keyframe::predictorName(planner.predictor)},
                            {"predictor_chosen_by_correlation", opt.autoPredictor},
-                           {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}}},
+                           {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}}},
                            {"criterion", keyframe::planCriterionName(planner.criterion)},
                            {"min_gap", planner.minGap},
                            {"max_gap", planner.maxGap},

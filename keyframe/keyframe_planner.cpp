@@ -91,6 +91,7 @@ const char* predictorName(Predictor p) {
     case Predictor::Holes: return "holes";
     case Predictor::Stretch: return "stretch";
     case Predictor::Disagreement: return "disagreement";
+    case Predictor::HolesDistance: return "holes+distance";
   }
   return "?";
 }
@@ -111,8 +112,48 @@ double predictorValue(const FrameFeatures& f, Predictor p) {
     case Predictor::Holes: return std::log10(f.holeFraction + 1e-5);
     case Predictor::Stretch: return std::log10(f.stretch + 1e-3);
     case Predictor::Disagreement: return std::log10(f.disagreementMse + 1e-2);
+    case Predictor::HolesDistance: return std::log10(f.holeFraction + 1e-5);
   }
   return std::nan("");
+}
+
+double predictorValue2(const FrameFeatures& f, Predictor p) {
+  return p == Predictor::HolesDistance ? std::log10(f.relDistance + 1e-3) : 0.0;
+}
+
+double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p) {
+  return fit.predict(predictorValue(f, p), predictorValue2(f, p));
+}
+
+PsnrFit fitPredictor(const std::vector<FrameFeatures>& f, const std::vector<double>& psnr,
+                     Predictor p) {
+  HW_CHECK_EQ(f.size(), psnr.size());
+  std::vector<double> x, x2, y;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const double a = predictorValue(f[i], p), b = predictorValue2(f[i], p);
+    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(psnr[i]))
+      x.push_back(a), x2.push_back(b), y.push_back(psnr[i]);
+  }
+  if (p != Predictor::HolesDistance) return fitLine(x, y);
+  // Two regressors: solve the centred 2×2 normal equations.
+  const double n = static_cast<double>(x.size());
+  const PsnrFit bad{std::nan(""), std::nan(""), std::nan("")};
+  if (n < 3) return bad;
+  double mx = 0, m2 = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], m2 += x2[i], my += y[i];
+  mx /= n, m2 /= n, my /= n;
+  double sxx = 0, s22 = 0, sx2 = 0, sxy = 0, s2y = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double a = x[i] - mx, b = x2[i] - m2, c = y[i] - my;
+    sxx += a * a, s22 += b * b, sx2 += a * b, sxy += a * c, s2y += b * c;
+  }
+  const double det = sxx * s22 - sx2 * sx2;
+  if (!(std::abs(det) > 1e-12 * std::max(1.0, sxx * s22))) return bad;
+  PsnrFit r;
+  r.slope = (sxy * s22 - s2y * sx2) / det;
+  r.slope2 = (s2y * sxx - sxy * sx2) / det;
+  r.intercept = my - r.slope * mx - r.slope2 * m2;
+  return r;
 }
 
 PsnrFit defaultFit(Predictor p) {
@@ -128,6 +169,7 @@ PsnrFit defaultFit(Predictor p) {
     case Predictor::Holes: return {20.4, -3.08};
     case Predictor::Stretch: return {27.9, -0.085};
     case Predictor::Disagreement: return {40.0, -4.0};
+    case Predictor::HolesDistance: return {18.43, -2.79, -3.70};
   }
   return {};
 }
@@ -451,7 +493,7 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames, const 
       failure = f.error();
       return -std::numeric_limits<double>::infinity();
     }
-    return r.fit.predict(predictorValue(*f, opt.predictor));
+    return predictPsnr(r.fit, *f, opt.predictor);
   };
   r.keyframes = planKeyframes(frames, opt.targetPsnrDb, opt.minGap, opt.maxGap, predict,
                               &r.evaluations, opt.criterion);

@@ -6,6 +6,12 @@
 // too, so the planner looks ahead along the path, as the Rail-Track viewer
 // does. The predictor works on low-resolution probes of the candidate
 // keyframes (a few ms each), never on the frame's own reference image.
+// A viewer without a known path would run the same test on predicted motion:
+// extrapolate the eye and view direction from the last frames' velocity,
+// place the candidate next keyframe at the extrapolated pose a look-ahead
+// time away, and render it (asynchronously) as soon as the predictor says a
+// frame between the current keyframe and that candidate drops below target;
+// a wrong guess costs holes, filled from the previous frame as usual.
 #include <functional>
 #include <map>
 #include <tuple>
@@ -70,21 +76,33 @@ struct FrameFeatures {
   double disagreementMse = 0;
 };
 
-enum class Predictor { Distance, Angle, Holes, Stretch, Disagreement };
-const char* predictorName(Predictor p);  // "distance", "angle", "holes", "stretch", "disagreement"
+// HolesDistance: holes and distance together (two regressors).
+enum class Predictor { Distance, Angle, Holes, Stretch, Disagreement, HolesDistance };
+// "distance", "angle", "holes", "stretch", "disagreement", "holes+distance"
+const char* predictorName(Predictor p);
 bool parsePredictor(const char* s, Predictor* out);
-constexpr Predictor kAllPredictors[] = {Predictor::Distance, Predictor::Angle, Predictor::Holes,
-                                        Predictor::Stretch, Predictor::Disagreement};
+constexpr Predictor kAllPredictors[] = {Predictor::Distance,     Predictor::Angle,
+                                        Predictor::Holes,        Predictor::Stretch,
+                                        Predictor::Disagreement, Predictor::HolesDistance};
 
-// The regressor of a predictor: log10(feature + floor), floors keep 0 finite.
+// The (first) regressor of a predictor: log10(feature + floor), floors keep 0
+// finite; HolesDistance's first is the holes one.
 double predictorValue(const FrameFeatures& f, Predictor p);
+// The second regressor: log10(relDistance + 1e-3) for HolesDistance, else 0.
+double predictorValue2(const FrameFeatures& f, Predictor p);
 
-// PSNR (dB) ≈ intercept + slope · predictorValue.
+// PSNR (dB) ≈ intercept + slope · x + slope2 · x2 (x, x2: the regressors).
 struct PsnrFit {
   double intercept = 0;
   double slope = 0;
-  double predict(double x) const { return intercept + slope * x; }
+  double slope2 = 0;
+  double predict(double x, double x2 = 0) const { return intercept + slope * x + slope2 * x2; }
 };
+double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p);
+// Least-squares fit of a predictor's regressors to measured PSNRs (pairs with
+// a non-finite member are skipped); NaN coefficients when underdetermined.
+PsnrFit fitPredictor(const std::vector<FrameFeatures>& f, const std::vector<double>& psnr,
+                     Predictor p);
 // Defaults measured on the built-in indoor scene (100k triangles, 512²,
 // τ 2^11, region-local planarity, merged strips) with fixed schedules every
 // 4..20 frames: see bench/schedule_study.h. On other scenes the target PSNR

@@ -147,6 +147,26 @@ TEST(KeyframePlannerFit, LineThroughExactPointsIsRecovered) {
   EXPECT_TRUE(std::isnan(fitLine({1, 1}, {2, 3}).slope));
 }
 
+TEST(KeyframePlannerFit, TwoRegressorFitRecoversBothSlopes) {
+  std::vector<FrameFeatures> f;
+  std::vector<double> y;
+  for (int i = 0; i < 30; ++i) {
+    FrameFeatures g;
+    g.holeFraction = 0.001 * (1 + i % 7);
+    g.relDistance = 0.01 * (1 + (i * 5) % 11);
+    f.push_back(g);
+    y.push_back(18.0 - 2.5 * std::log10(g.holeFraction + 1e-5) - 4.0 * std::log10(g.relDistance + 1e-3));
+  }
+  const PsnrFit fit = fitPredictor(f, y, Predictor::HolesDistance);
+  EXPECT_NEAR(fit.intercept, 18.0, 1e-9);
+  EXPECT_NEAR(fit.slope, -2.5, 1e-9);
+  EXPECT_NEAR(fit.slope2, -4.0, 1e-9);
+  EXPECT_NEAR(predictPsnr(fit, f[3], Predictor::HolesDistance), y[3], 1e-9);
+  const PsnrFit one = fitPredictor(f, y, Predictor::Holes);  // one regressor: slope2 stays 0
+  EXPECT_EQ(one.slope2, 0.0);
+  EXPECT_LT(one.slope, 0.0);
+}
+
 TEST(KeyframePlannerFit, CorrelationsOfMonotoneAndIndependentData) {
   std::vector<double> x, y, z;
   for (int i = 0; i < 50; ++i) {
