@@ -103,6 +103,16 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
                 "the longer side")
       ->check(CLI::Range(8, 1024))
       ->capture_default_str();
+  c->add_option("--candidate-stride", p.candidateStride,
+                "Adaptive schedule: try the next keyframe only every this many frames (fewer "
+                "probes to render)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--frames-per-segment", p.framesPerSegment,
+                "Adaptive schedule: in-between frames tested per candidate segment, evenly "
+                "spaced (0 = all; fewer = cheaper, may miss a bad frame)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
   std::vector<std::string> names;
   if (withAuto) names.push_back("auto");
   for (auto pr : keyframe::kAllPredictors) names.push_back(keyframe::predictorName(pr));
@@ -801,6 +811,8 @@ int main(int argc, char** argv) {
                    {"target_psnr", walkPlan.targetPsnrDb},
                    {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
                    {"probe_size", walkPlan.probeSize},
+                   {"candidate_stride", walkPlan.candidateStride},
+                   {"frames_per_segment", walkPlan.framesPerSegment},
                    {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope},
                             {"slope2", plan->fit.slope2}}},
                    {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},

@@ -382,6 +382,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                            {"min_gap", planner.minGap},
                            {"max_gap", planner.maxGap},
                            {"probe_size", planner.probeSize},
+                           {"candidate_stride", planner.candidateStride},
+                           {"frames_per_segment", planner.framesPerSegment},
                            {"targets_psnr", targets}}},
               {"correlation", correlation},
               {"runs", runsJson},

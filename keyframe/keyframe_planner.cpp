@@ -38,42 +38,69 @@ bool parsePlanCriterion(const char* s, PlanCriterion* out) {
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int maxGap,
                                const FramePredictor& predict, long* evaluations,
                                PlanCriterion criterion) {
+  PlanSearch search;
+  search.minGap = minGap;
+  search.maxGap = maxGap;
+  search.criterion = criterion;
+  return planKeyframes(frames, targetPsnrDb, search, predict, evaluations);
+}
+
+std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch& search,
+                               const FramePredictor& predict, long* evaluations) {
   HW_CHECK_GE(frames, 1);
-  HW_CHECK_GE(minGap, 1);
-  HW_CHECK_GE(maxGap, minGap);
+  HW_CHECK_GE(search.minGap, 1);
+  HW_CHECK_GE(search.maxGap, search.minGap);
+  HW_CHECK_GE(search.candidateStride, 1);
+  HW_CHECK_GE(search.framesPerSegment, 0);
   std::vector<int> keys{0};
   long evals = 0;
   const int last = frames - 1;
+  std::vector<int> tested;
+  std::vector<double> values;
+  tested.reserve(static_cast<std::size_t>(search.maxGap));
+  values.reserve(static_cast<std::size_t>(search.maxGap));
   int k = 0;
-  std::vector<double> segment;
-  segment.reserve(static_cast<std::size_t>(maxGap));
   while (k < last) {
-    int best = std::min(k + minGap, last);  // the minimum gap is taken even if it fails
-    for (int b = best; b <= std::min(k + maxGap, last); ++b) {
+    const int first = std::min(k + search.minGap, last);
+    const int stop = std::min(k + search.maxGap, last);
+    int best = first;  // the minimum gap is taken even if it fails
+    for (int b = first; b <= stop;) {
+      // The in-between frames tested: all, or framesPerSegment evenly spaced.
+      tested.clear();
+      const int inner = b - k - 1;
+      if (search.framesPerSegment == 0 || inner <= search.framesPerSegment) {
+        for (int i = k + 1; i < b; ++i) tested.push_back(i);
+      } else {
+        for (int j = 1; j <= search.framesPerSegment; ++j)
+          tested.push_back(k + static_cast<int>(std::lround(static_cast<double>(j) * (b - k) /
+                                                            (search.framesPerSegment + 1))));
+      }
       bool ok = true;
-      if (criterion == PlanCriterion::WorstFrame) {
-        for (int i = k + 1; i < b && ok; ++i) {
-          ++evals;
-          ok = predict(k, b, i) >= targetPsnrDb;  // NaN fails
+      values.clear();
+      for (int i : tested) {
+        ++evals;
+        const double v = predict(k, b, i);
+        values.push_back(std::isnan(v) ? -std::numeric_limits<double>::infinity() : v);
+        if (search.criterion == PlanCriterion::WorstFrame && !(v >= targetPsnrDb)) {
+          ok = false;  // NaN fails
+          break;
         }
-      } else if (criterion == PlanCriterion::SegmentMean && b - k > 1) {
+      }
+      if (ok && !values.empty() && search.criterion == PlanCriterion::SegmentMean) {
         double sum = 0;
-        for (int i = k + 1; i < b; ++i, ++evals) sum += predict(k, b, i);
-        ok = sum / (b - k - 1) >= targetPsnrDb;  // NaN fails
-      } else if (b - k > 1) {
-        segment.clear();
-        for (int i = k + 1; i < b; ++i, ++evals) {
-          const double v = predict(k, b, i);
-          segment.push_back(std::isnan(v) ? -std::numeric_limits<double>::infinity() : v);
-        }
+        for (double v : values) sum += v;
+        ok = sum / static_cast<double>(values.size()) >= targetPsnrDb;
+      } else if (ok && !values.empty() && search.criterion == PlanCriterion::SegmentMedian) {
         // Sorted descending, element ⌊(n−1)/2⌋: at least half of the frames
         // are ≥ the value tested.
-        const auto mid = segment.begin() + static_cast<std::ptrdiff_t>((segment.size() - 1) / 2);
-        std::nth_element(segment.begin(), mid, segment.end(), std::greater<double>());
+        const auto mid = values.begin() + static_cast<std::ptrdiff_t>((values.size() - 1) / 2);
+        std::nth_element(values.begin(), mid, values.end(), std::greater<double>());
         ok = *mid >= targetPsnrDb;
       }
       if (!ok) break;
       best = b;
+      if (b == stop) break;
+      b = std::min(b + search.candidateStride, stop);
     }
     keys.push_back(best);
     k = best;
@@ -480,6 +507,8 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames, const 
   if (!std::isfinite(opt.targetPsnrDb))
     return makeError("keyframe planner: target PSNR must be finite");
   if (frames < 1) return makeError("keyframe planner: no frames to plan");
+  if (opt.candidateStride < 1 || opt.framesPerSegment < 0)
+    return makeError("keyframe planner: candidate stride must be >= 1 and frames per segment >= 0");
   Stopwatch sw;
   const double renderBefore = probe.renderMs();
   const int probesBefore = probe.probesRendered();
@@ -495,8 +524,13 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames, const 
     }
     return predictPsnr(r.fit, *f, opt.predictor);
   };
-  r.keyframes = planKeyframes(frames, opt.targetPsnrDb, opt.minGap, opt.maxGap, predict,
-                              &r.evaluations, opt.criterion);
+  PlanSearch search;
+  search.minGap = opt.minGap;
+  search.maxGap = opt.maxGap;
+  search.criterion = opt.criterion;
+  search.candidateStride = opt.candidateStride;
+  search.framesPerSegment = opt.framesPerSegment;
+  r.keyframes = planKeyframes(frames, opt.targetPsnrDb, search, predict, &r.evaluations);
   if (!failure.ok()) return failure.error();
   r.planMs = sw.ms();
   r.probeRenderMs = probe.renderMs() - renderBefore;

@@ -57,6 +57,21 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
                                const FramePredictor& predict, long* evaluations = nullptr,
                                PlanCriterion criterion = PlanCriterion::WorstFrame);
 
+// The same with the search made cheaper: candidates for the next keyframe
+// every candidateStride frames (from k + minGap; k + maxGap and the last frame
+// are always tried), and at most framesPerSegment evenly spaced in-between
+// frames tested per candidate (0 = all). Fewer probes and predictor calls,
+// at the risk of missing a bad frame between the tested ones.
+struct PlanSearch {
+  int minGap = 2;
+  int maxGap = 30;
+  PlanCriterion criterion = PlanCriterion::WorstFrame;
+  int candidateStride = 1;   // ≥ 1
+  int framesPerSegment = 0;  // ≥ 0
+};
+std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch& search,
+                               const FramePredictor& predict, long* evaluations = nullptr);
+
 // ---- the predictor ----------------------------------------------------------
 
 // Cheap per-frame features of an in-between frame and its two keyframes.
@@ -160,6 +175,8 @@ struct PlannerOptions {
   bool useDefaultFit = true;   // fit = defaultFit(predictor)
   PsnrFit fit;                 // used when !useDefaultFit
   int probeSize = 64;          // pixels, longer side of the probes
+  int candidateStride = 1;     // see PlanSearch
+  int framesPerSegment = 0;    // see PlanSearch (0 = every in-between frame)
 };
 
 struct PlanResult {

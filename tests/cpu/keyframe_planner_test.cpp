@@ -138,6 +138,35 @@ TEST(KeyframePlanner, MedianCriterionKeepsHalfTheFramesAboveTheTargetWithFewerKe
   EXPECT_FALSE(parsePlanCriterion("p5", &c));
 }
 
+TEST(KeyframePlanner, CheaperSearchKeepsGapsAndCallsThePredictorLess) {
+  std::mt19937 rng(9);
+  std::vector<double> diff(300);
+  for (auto& v : diff) v = std::uniform_real_distribution<double>(0.2, 3.0)(rng);
+  const auto pred = difficultyPredictor(diff);
+  long full = 0, cheap = 0;
+  const auto a = planKeyframes(300, 40.0, 2, 30, pred, &full);
+  PlanSearch s;
+  s.minGap = 2;
+  s.maxGap = 30;
+  s.candidateStride = 3;
+  s.framesPerSegment = 3;
+  const auto b = planKeyframes(300, 40.0, s, pred, &cheap);
+  expectValidSchedule(b, 300, 2, 30);
+  EXPECT_LT(cheap * 3, full);
+  // Within a factor of two of the full search's count on this predictor.
+  EXPECT_LE(b.size(), 2 * a.size());
+  EXPECT_GE(2 * b.size(), a.size());
+  // Candidates step by 3 from k + minGap (or land on the last frame / k + maxGap).
+  for (std::size_t j = 1; j + 1 < b.size(); ++j) {
+    const int gap = b[j] - b[j - 1];
+    EXPECT_TRUE((gap - 2) % 3 == 0 || gap == 30) << gap;
+  }
+  // An always-good predictor still reaches the maximum gap.
+  s.candidateStride = 4;  // 2, 6, ..., 26, then 30
+  EXPECT_EQ(planKeyframes(61, 30, s, [](int, int, int) { return 60.0; }),
+            (std::vector<int>{0, 30, 60}));
+}
+
 TEST(KeyframePlannerFit, LineThroughExactPointsIsRecovered) {
   const std::vector<double> x{1, 2, 3, 4, std::nan("")}, y{5, 3, 1, -1, 7};
   const PsnrFit f = fitLine(x, y);
