@@ -15,8 +15,8 @@
 namespace hw::bench {
 namespace {
 
-using nlohmann::json;
 using keyframe::Predictor;
+using nlohmann::json;
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
 json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -82,7 +82,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       opt.walk.maxFrames > 0 ? std::min(opt.walk.maxFrames, path.frames) : path.frames;
   const json machine = machineInfo(opt.walk.glRenderer, opt.walk.glVersion);
   auto say = [&](const std::string& s) {
-    if (opt.progress) std::fprintf(stderr, "schedule-study %s: %s\n", sceneLabel.c_str(), s.c_str());
+    if (opt.progress)
+      std::fprintf(stderr, "schedule-study %s: %s\n", sceneLabel.c_str(), s.c_str());
   };
 
   keyframe::RenderOptions ropt;
@@ -126,7 +127,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   // 1. Fixed schedules.
   std::vector<Run> fixedRuns;
   for (int every : opt.fixedSpacings) {
-    if (every < 1) return makeError("schedule study: spacing must be >= 1, got " + std::to_string(every));
+    if (every < 1)
+      return makeError("schedule study: spacing must be >= 1, got " + std::to_string(every));
     say("fixed, a keyframe every " + std::to_string(every) + " frames");
     scenes::CameraPath p = path;
     p.keyframeEvery = every;
@@ -147,8 +149,9 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   // the measured PSNR: positive = useful. For one-regressor predictors the
   // rank correlation equals that of the feature itself, sign flipped.
   json correlation = json::array();
-  std::string csvCorr = "predictor,pearson_pooled,spearman_pooled,pearson_ref,spearman_ref,fit_intercept,"
-                        "fit_slope,fit_slope2,samples\n";
+  std::string csvCorr =
+      "predictor,pearson_pooled,spearman_pooled,pearson_ref,spearman_ref,fit_intercept,"
+      "fit_slope,fit_slope2,samples\n";
   Predictor best = opt.planner.predictor;
   double bestRho = -1;
   std::map<Predictor, keyframe::PsnrFit> fits;
@@ -173,15 +176,18 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                            {"spearman_pooled", finiteOrNull(sp)},
                            {"pearson_reference_spacing", finiteOrNull(pref)},
                            {"spearman_reference_spacing", finiteOrNull(sref)},
-                           {"fit", {{"intercept", finiteOrNull(pf.intercept)}, {"slope", finiteOrNull(pf.slope)},
-                                    {"slope2", finiteOrNull(pf.slope2)}}},
+                           {"fit",
+                            {{"intercept", finiteOrNull(pf.intercept)},
+                             {"slope", finiteOrNull(pf.slope)},
+                             {"slope2", finiteOrNull(pf.slope2)}}},
                            {"samples", x.size()}});
-    csvCorr += std::string(keyframe::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) + "," +
-               fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(pf.intercept, 3) + "," +
+    csvCorr += std::string(keyframe::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) +
+               "," + fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(pf.intercept, 3) + "," +
                fmt(pf.slope, 3) + "," + fmt(pf.slope2, 3) + "," + std::to_string(x.size()) + "\n";
     // A feature whose fit rises with it (PSNR up as quality drops) is not a
     // usable predictor, whatever its correlation.
-    if (std::isfinite(sp) && sp > bestRho && pf.slope < 0 && pf.slope2 <= 0) bestRho = sp, best = pr;
+    if (std::isfinite(sp) && sp > bestRho && pf.slope < 0 && pf.slope2 <= 0)
+      bestRho = sp, best = pr;
   }
   keyframe::PlannerOptions planner = opt.planner;
   if (opt.autoPredictor) {
@@ -189,7 +195,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     planner.useDefaultFit = false;
     planner.fit = fits[best];
   }
-  const keyframe::PsnrFit fit = planner.useDefaultFit ? keyframe::defaultFit(planner.predictor) : planner.fit;
+  const keyframe::PsnrFit fit =
+      planner.useDefaultFit ? keyframe::defaultFit(planner.predictor) : planner.fit;
   say(std::string("predictor ") + keyframe::predictorName(planner.predictor) + ": PSNR = " +
       fmt(fit.intercept) + " + " + fmt(fit.slope) + " * x + " + fmt(fit.slope2) + " * x2");
   auto predictedStats = [&](Run& r) {
@@ -228,8 +235,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
         if (got == want) break;
         (got < want ? lo : hi) = mid;
       }
-      say("target " + fmt(bestT) + " dB gives " + std::to_string(bestCount) + " keyframes (fixed every " +
-          fmt(r.param, 0) + ": " + std::to_string(want) + ")");
+      say("target " + fmt(bestT) + " dB gives " + std::to_string(bestCount) +
+          " keyframes (fixed every " + fmt(r.param, 0) + ": " + std::to_string(want) + ")");
       targets.push_back(bestT);
     }
   }
@@ -256,8 +263,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   // 4. Curves and the headline.
   auto curve = [](std::vector<const Run*> runs, std::vector<double>& x, std::vector<double>& med,
                   std::vector<double>& p5) {
-    std::sort(runs.begin(), runs.end(), [](const Run* a, const Run* b) { return a->kfPer100 < b->kfPer100; });
-    for (const Run* r : runs) x.push_back(r->kfPer100), med.push_back(r->psnrMedian), p5.push_back(r->psnrP5);
+    std::sort(runs.begin(), runs.end(),
+              [](const Run* a, const Run* b) { return a->kfPer100 < b->kfPer100; });
+    for (const Run* r : runs)
+      x.push_back(r->kfPer100), med.push_back(r->psnrMedian), p5.push_back(r->psnrP5);
   };
   std::vector<const Run*> fp, ap;
   for (const Run& r : fixedRuns) fp.push_back(&r);
@@ -273,28 +282,28 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   // The same at the reference's 5th percentile (the floor a worst-frame plan targets).
   bool boundedP5 = false;
   const double adaptiveKfP5 = firstCrossing(ax, ap5, refRun->psnrP5, &boundedP5);
-  json headline = {
-      {"reference_spacing", refRun->param},
-      {"reference_keyframes_per_100", refKf},
-      {"reference_psnr_median", refPsnr},
-      {"reference_psnr_p5", refRun->psnrP5},
-      {"adaptive_keyframes_per_100_at_reference_median", finiteOrNull(adaptiveKf)},
-      {"adaptive_keyframes_is_upper_bound", bounded},
-      {"keyframe_reduction", finiteOrNull(reduction)},
-      {"goal_reduction", 0.30},
-      {"goal_met", std::isfinite(reduction) && reduction >= 0.30},
-      {"adaptive_keyframes_per_100_at_reference_p5", finiteOrNull(adaptiveKfP5)},
-      {"adaptive_keyframes_at_p5_is_upper_bound", boundedP5},
-      {"keyframe_reduction_at_p5", finiteOrNull(1.0 - adaptiveKfP5 / refKf)},
-      {"adaptive_psnr_median_at_reference_count", finiteOrNull(medAtEqual)},
-      {"adaptive_psnr_p5_at_reference_count", finiteOrNull(p5AtEqual)},
-      {"psnr_median_gain_at_equal_count", finiteOrNull(medAtEqual - refPsnr)},
-      {"psnr_p5_gain_at_equal_count", finiteOrNull(p5AtEqual - refRun->psnrP5)}};
+  json headline = {{"reference_spacing", refRun->param},
+                   {"reference_keyframes_per_100", refKf},
+                   {"reference_psnr_median", refPsnr},
+                   {"reference_psnr_p5", refRun->psnrP5},
+                   {"adaptive_keyframes_per_100_at_reference_median", finiteOrNull(adaptiveKf)},
+                   {"adaptive_keyframes_is_upper_bound", bounded},
+                   {"keyframe_reduction", finiteOrNull(reduction)},
+                   {"goal_reduction", 0.30},
+                   {"goal_met", std::isfinite(reduction) && reduction >= 0.30},
+                   {"adaptive_keyframes_per_100_at_reference_p5", finiteOrNull(adaptiveKfP5)},
+                   {"adaptive_keyframes_at_p5_is_upper_bound", boundedP5},
+                   {"keyframe_reduction_at_p5", finiteOrNull(1.0 - adaptiveKfP5 / refKf)},
+                   {"adaptive_psnr_median_at_reference_count", finiteOrNull(medAtEqual)},
+                   {"adaptive_psnr_p5_at_reference_count", finiteOrNull(p5AtEqual)},
+                   {"psnr_median_gain_at_equal_count", finiteOrNull(medAtEqual - refPsnr)},
+                   {"psnr_p5_gain_at_equal_count", finiteOrNull(p5AtEqual - refRun->psnrP5)}};
 
   json runsJson = json::array();
-  std::string csvRuns = "schedule,keyframe_every,target_psnr,keyframes,keyframes_per_100,psnr_median,psnr_p5,"
-                        "predicted_min,predicted_median,in_between_ms_median,plan_ms,probe_render_ms,"
-                        "probes,evaluations\n";
+  std::string csvRuns =
+      "schedule,keyframe_every,target_psnr,keyframes,keyframes_per_100,psnr_median,psnr_p5,"
+      "predicted_min,predicted_median,in_between_ms_median,plan_ms,probe_render_ms,"
+      "probes,evaluations\n";
   for (const std::vector<Run>* group : {&fixedRuns, &adaptiveRuns})
     for (const Run& r : *group) {
       const bool fixed = r.schedule == "fixed";
@@ -314,9 +323,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                           {"probe_render_ms", finiteOrNull(r.probeRenderMs)},
                           {"probes", r.probes},
                           {"evaluations", r.evaluations}});
-      csvRuns += r.schedule + "," + (fixed ? fmt(r.param, 0) : "") + "," + (fixed ? "" : fmt(r.param)) + "," +
-                 std::to_string(r.keyframes.size()) + "," + fmt(r.kfPer100) + "," + fmt(r.psnrMedian) + "," +
-                 fmt(r.psnrP5) + "," + fmt(r.predictedMin) + "," + fmt(r.predictedMedian) + "," +
+      csvRuns += r.schedule + "," + (fixed ? fmt(r.param, 0) : "") + "," +
+                 (fixed ? "" : fmt(r.param)) + "," + std::to_string(r.keyframes.size()) + "," +
+                 fmt(r.kfPer100) + "," + fmt(r.psnrMedian) + "," + fmt(r.psnrP5) + "," +
+                 fmt(r.predictedMin) + "," + fmt(r.predictedMedian) + "," +
                  fmt(num(r.summary["in_between_ms"]["median"])) + "," + fmt(r.planMs, 1) + "," +
                  fmt(r.probeRenderMs, 1) + "," + std::to_string(r.probes) + "," +
                  std::to_string(r.evaluations) + "\n";
@@ -362,42 +372,52 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     }
     PlotOptions pp;
     pp.title = "Predicted vs measured PSNR: " + sceneLabel;
-    pp.xLabel = std::string("predicted PSNR, ") + keyframe::predictorName(planner.predictor) + " (dB)";
+    pp.xLabel =
+        std::string("predicted PSNR, ") + keyframe::predictorName(planner.predictor) + " (dB)";
     pp.yLabel = "measured in-between PSNR (dB)";
     HW_TRY(writePlot(opt.outDir + "/predictor.png", {sc, line}, pp));
   }
 
   const auto& s0 = fixedRuns.front().summary;
-  json doc = {{"scene", s0["scene"]},
-              {"resolution", s0["resolution"]},
-              {"frames", frames},
-              {"walk", {{"tau", s0["tau"]}, {"tau_parallax_px", s0["tau_parallax_px"]},
-                        {"criterion", s0["criterion"]}, {"planarity", s0["planarity"]},
-                        {"merge_strips", s0["merge_strips"]}, {"depth_mode", s0["depth_mode"]},
-                        {"compose_mode", s0["compose_mode"]}, {"sky_backdrop", s0["sky_backdrop"]}}},
-              {"planner", {{"predictor", keyframe::predictorName(planner.predictor)},
-                           {"predictor_chosen_by_correlation", opt.autoPredictor},
-                           {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}}},
-                           {"criterion", keyframe::planCriterionName(planner.criterion)},
-                           {"min_gap", planner.minGap},
-                           {"max_gap", planner.maxGap},
-                           {"probe_size", planner.probeSize},
-                           {"candidate_stride", planner.candidateStride},
-                           {"frames_per_segment", planner.framesPerSegment},
-                           {"targets_psnr", targets}}},
-              {"correlation", correlation},
-              {"runs", runsJson},
-              {"headline", headline},
-              {"machine", machine},
-              {"elapsed_s", all.ms() / 1000.0},
-              {"note", "PSNR is over in-between frames only (keyframes are exact), as in the walk "
-                       "summary. Times are wall clock on a shared 2-vCPU VM (llvmpipe): noisy."}};
+  json doc = {
+      {"scene", s0["scene"]},
+      {"resolution", s0["resolution"]},
+      {"frames", frames},
+      {"walk",
+       {{"tau", s0["tau"]},
+        {"tau_parallax_px", s0["tau_parallax_px"]},
+        {"criterion", s0["criterion"]},
+        {"planarity", s0["planarity"]},
+        {"merge_strips", s0["merge_strips"]},
+        {"depth_mode", s0["depth_mode"]},
+        {"compose_mode", s0["compose_mode"]},
+        {"sky_backdrop", s0["sky_backdrop"]}}},
+      {"planner",
+       {{"predictor", keyframe::predictorName(planner.predictor)},
+        {"predictor_chosen_by_correlation", opt.autoPredictor},
+        {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}}},
+        {"criterion", keyframe::planCriterionName(planner.criterion)},
+        {"min_gap", planner.minGap},
+        {"max_gap", planner.maxGap},
+        {"probe_size", planner.probeSize},
+        {"candidate_stride", planner.candidateStride},
+        {"frames_per_segment", planner.framesPerSegment},
+        {"targets_psnr", targets}}},
+      {"correlation", correlation},
+      {"runs", runsJson},
+      {"headline", headline},
+      {"machine", machine},
+      {"elapsed_s", all.ms() / 1000.0},
+      {"note",
+       "PSNR is over in-between frames only (keyframes are exact), as in the walk "
+       "summary. Times are wall clock on a shared 2-vCPU VM (llvmpipe): noisy."}};
   HW_TRY(writeFileAtomic(opt.outDir + "/schedule.json", doc.dump(1)));
   HW_TRY(writeFileAtomic(opt.outDir + "/runs.csv", csvRuns));
   HW_TRY(writeFileAtomic(opt.outDir + "/correlation.csv", csvCorr));
   {
-    std::string csv = "schedule,param,frame,k0,k1,psnr,rel_distance,angle_deg,hole_fraction,stretch,"
-                      "disagreement_mse\n";
+    std::string csv =
+        "schedule,param,frame,k0,k1,psnr,rel_distance,angle_deg,hole_fraction,stretch,"
+        "disagreement_mse\n";
     for (const std::vector<Run>* group : {&fixedRuns, &adaptiveRuns})
       for (const Run& r : *group)
         for (const FrameSample& s : r.samples)
@@ -410,20 +430,24 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   }
 
   HtmlReport page("Keyframe schedules: fixed vs error-driven (" + sceneLabel + ")");
-  page.paragraph("Scene " + sceneLabel + ", " + std::to_string(frames) + " frames. Planner: predictor " +
-                 keyframe::predictorName(planner.predictor) + ", criterion " +
-                 keyframe::planCriterionName(planner.criterion) + ", gaps " + std::to_string(planner.minGap) +
-                 ".." + std::to_string(planner.maxGap) + " frames, probes " +
-                 std::to_string(planner.probeSize) + " px. " + doc["note"].get<std::string>());
+  page.paragraph("Scene " + sceneLabel + ", " + std::to_string(frames) +
+                 " frames. Planner: predictor " + keyframe::predictorName(planner.predictor) +
+                 ", criterion " + keyframe::planCriterionName(planner.criterion) + ", gaps " +
+                 std::to_string(planner.minGap) + ".." + std::to_string(planner.maxGap) +
+                 " frames, probes " + std::to_string(planner.probeSize) + " px. " +
+                 doc["note"].get<std::string>());
   page.images({"schedule.png", "predictor.png"});
   std::vector<std::vector<std::string>> rows;
   for (const json& r : runsJson)
     rows.push_back({r["schedule"].get<std::string>(),
                     r["keyframe_every"].is_null() ? "" : fmt(num(r["keyframe_every"]), 0),
                     r["target_psnr"].is_null() ? "" : fmt(num(r["target_psnr"])),
-                    std::to_string(r["keyframes"].get<std::size_t>()), fmt(num(r["keyframes_per_100"]), 1),
-                    fmt(num(r["psnr"]["median"])), fmt(num(r["psnr"]["p5"])), fmt(num(r["plan_ms"]), 0)});
-  page.table({"schedule", "every", "target dB", "keyframes", "per 100", "PSNR median", "PSNR p5", "plan ms"}, rows);
+                    std::to_string(r["keyframes"].get<std::size_t>()),
+                    fmt(num(r["keyframes_per_100"]), 1), fmt(num(r["psnr"]["median"])),
+                    fmt(num(r["psnr"]["p5"])), fmt(num(r["plan_ms"]), 0)});
+  page.table({"schedule", "every", "target dB", "keyframes", "per 100", "PSNR median", "PSNR p5",
+              "plan ms"},
+             rows);
   std::vector<std::vector<std::string>> crow;
   for (const json& c : correlation)
     crow.push_back({c["predictor"].get<std::string>(), fmt(num(c["pearson_pooled"]), 3),

@@ -6,10 +6,9 @@
 // per 100 frames against median and 5th-percentile in-between PSNR. Writes
 // schedule.json, runs.csv, correlation.csv, schedule.png, predictor.png and
 // index.html into a directory.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bench/walk.h"
 #include "core/result.h"

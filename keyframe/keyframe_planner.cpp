@@ -5,11 +5,10 @@
 #include <cstdint>
 #include <cstring>
 #include <functional>
+#include <glm/glm.hpp>
 #include <limits>
 #include <numeric>
 #include <string>
-
-#include <glm/glm.hpp>
 
 #include "core/check.h"
 #include "core/timer.h"
@@ -21,9 +20,12 @@ namespace hw::keyframe {
 
 const char* planCriterionName(PlanCriterion c) {
   switch (c) {
-    case PlanCriterion::WorstFrame: return "worst";
-    case PlanCriterion::SegmentMean: return "mean";
-    case PlanCriterion::SegmentMedian: return "median";
+    case PlanCriterion::WorstFrame:
+      return "worst";
+    case PlanCriterion::SegmentMean:
+      return "mean";
+    case PlanCriterion::SegmentMedian:
+      return "median";
   }
   return "?";
 }
@@ -113,12 +115,18 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch
 
 const char* predictorName(Predictor p) {
   switch (p) {
-    case Predictor::Distance: return "distance";
-    case Predictor::Angle: return "angle";
-    case Predictor::Holes: return "holes";
-    case Predictor::Stretch: return "stretch";
-    case Predictor::Disagreement: return "disagreement";
-    case Predictor::HolesDistance: return "holes+distance";
+    case Predictor::Distance:
+      return "distance";
+    case Predictor::Angle:
+      return "angle";
+    case Predictor::Holes:
+      return "holes";
+    case Predictor::Stretch:
+      return "stretch";
+    case Predictor::Disagreement:
+      return "disagreement";
+    case Predictor::HolesDistance:
+      return "holes+distance";
   }
   return "?";
 }
@@ -134,12 +142,18 @@ bool parsePredictor(const char* s, Predictor* out) {
 
 double predictorValue(const FrameFeatures& f, Predictor p) {
   switch (p) {
-    case Predictor::Distance: return std::log10(f.relDistance + 1e-3);
-    case Predictor::Angle: return std::log10(f.angleDeg + 1e-2);
-    case Predictor::Holes: return std::log10(f.holeFraction + 1e-5);
-    case Predictor::Stretch: return std::log10(f.stretch + 1e-3);
-    case Predictor::Disagreement: return std::log10(f.disagreementMse + 1e-2);
-    case Predictor::HolesDistance: return std::log10(f.holeFraction + 1e-5);
+    case Predictor::Distance:
+      return std::log10(f.relDistance + 1e-3);
+    case Predictor::Angle:
+      return std::log10(f.angleDeg + 1e-2);
+    case Predictor::Holes:
+      return std::log10(f.holeFraction + 1e-5);
+    case Predictor::Stretch:
+      return std::log10(f.stretch + 1e-3);
+    case Predictor::Disagreement:
+      return std::log10(f.disagreementMse + 1e-2);
+    case Predictor::HolesDistance:
+      return std::log10(f.holeFraction + 1e-5);
   }
   return std::nan("");
 }
@@ -191,12 +205,18 @@ PsnrFit defaultFit(Predictor p) {
   // its nominal fit only keeps the planner's direction). For a target derived
   // from the same fit only the slope's sign changes a plan.
   switch (p) {
-    case Predictor::Distance: return {20.0, -10.8};
-    case Predictor::Angle: return {30.5, -5.6};
-    case Predictor::Holes: return {20.4, -3.08};
-    case Predictor::Stretch: return {27.9, -0.085};
-    case Predictor::Disagreement: return {40.0, -4.0};
-    case Predictor::HolesDistance: return {18.43, -2.79, -3.70};
+    case Predictor::Distance:
+      return {20.0, -10.8};
+    case Predictor::Angle:
+      return {30.5, -5.6};
+    case Predictor::Holes:
+      return {20.4, -3.08};
+    case Predictor::Stretch:
+      return {27.9, -0.085};
+    case Predictor::Disagreement:
+      return {40.0, -4.0};
+    case Predictor::HolesDistance:
+      return {18.43, -2.79, -3.70};
   }
   return {};
 }
@@ -450,7 +470,8 @@ Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
   const Probe* bg = fg == pa ? pb : pa;
   FrameFeatures f;
   f.relDistance = std::min(da / pa->medianDepth, db / pb->medianDepth);
-  f.angleDeg = glm::degrees(std::acos(std::clamp(glm::dot(t.forward, fg->camera.forward), -1.0, 1.0)));
+  f.angleDeg =
+      glm::degrees(std::acos(std::clamp(glm::dot(t.forward, fg->camera.forward), -1.0, 1.0)));
   SplatLayer& la = scratch_->a;
   SplatLayer& lb = scratch_->b;
   f.stretch = splat(*fg, t, la);
@@ -472,9 +493,10 @@ Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
       const bool crackY = y > 0 && y + 1 < h && !hole(x, y - 1) && !hole(x, y + 1);
       if (!crackX && !crackY) ++holes;
     }
-    const bool same = (sa == kSky && sb == kSky) ||
-                      (sa == kSurface && sb == kSurface &&
-                       std::abs(la.depth[i] - lb.depth[i]) < 0.05f * std::min(la.depth[i], lb.depth[i]));
+    const bool same =
+        (sa == kSky && sb == kSky) ||
+        (sa == kSurface && sb == kSurface &&
+         std::abs(la.depth[i] - lb.depth[i]) < 0.05f * std::min(la.depth[i], lb.depth[i]));
     if (!same) continue;
     ++both;
     const Rgba8 ca = la.colour[i], cb = lb.colour[i];
@@ -500,7 +522,8 @@ Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
   return r;
 }
 
-Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames, const PlannerOptions& opt) {
+Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
+                                        const PlannerOptions& opt) {
   if (opt.minGap < 1 || opt.maxGap < opt.minGap)
     return makeError("keyframe planner: gaps must satisfy 1 <= min-gap <= max-gap, got min " +
                      std::to_string(opt.minGap) + ", max " + std::to_string(opt.maxGap));

@@ -14,8 +14,8 @@
 // a wrong guess costs holes, filled from the previous frame as usual.
 #include <functional>
 #include <map>
-#include <tuple>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 #include "core/camera.h"
@@ -79,7 +79,7 @@ struct FrameFeatures {
   // min over the two keyframes of |E − E_k| / (median eye depth of keyframe k):
   // translation relative to the scene depth (parallax ∝ this), unitless.
   double relDistance = 0;
-  double angleDeg = 0;       // view direction vs the nearer keyframe's, degrees
+  double angleDeg = 0;  // view direction vs the nearer keyframe's, degrees
   // Probe pixels of the frame covered by neither keyframe's forward splat
   // (sky counts as covered: the warp draws it as a backdrop), fraction.
   double holeFraction = 0;
@@ -172,11 +172,11 @@ struct PlannerOptions {
   int maxGap = 30;             // frames (≥ minGap)
   Predictor predictor = Predictor::Holes;
   PlanCriterion criterion = PlanCriterion::WorstFrame;
-  bool useDefaultFit = true;   // fit = defaultFit(predictor)
-  PsnrFit fit;                 // used when !useDefaultFit
-  int probeSize = 64;          // pixels, longer side of the probes
-  int candidateStride = 1;     // see PlanSearch
-  int framesPerSegment = 0;    // see PlanSearch (0 = every in-between frame)
+  bool useDefaultFit = true;  // fit = defaultFit(predictor)
+  PsnrFit fit;                // used when !useDefaultFit
+  int probeSize = 64;         // pixels, longer side of the probes
+  int candidateStride = 1;    // see PlanSearch
+  int framesPerSegment = 0;   // see PlanSearch (0 = every in-between frame)
 };
 
 struct PlanResult {

@@ -2,13 +2,13 @@
 // gaps respected, ends are keyframes, harder stretches get denser keyframes,
 // a stricter target never gives fewer keyframes; and the fit/correlation
 // helpers the schedule study uses.
+#include "keyframe/keyframe_planner.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 #include <vector>
-
-#include "keyframe/keyframe_planner.h"
 
 namespace hw::keyframe {
 namespace {
@@ -53,7 +53,8 @@ TEST(KeyframePlanner, NanPredictionFailsLikeALowOne) {
 
 TEST(KeyframePlanner, SingleAndTwoFramePaths) {
   EXPECT_EQ(planKeyframes(1, 30, 1, 5, [](int, int, int) { return 0.0; }), std::vector<int>{0});
-  EXPECT_EQ(planKeyframes(2, 30, 3, 5, [](int, int, int) { return 0.0; }), (std::vector<int>{0, 1}));
+  EXPECT_EQ(planKeyframes(2, 30, 3, 5, [](int, int, int) { return 0.0; }),
+            (std::vector<int>{0, 1}));
 }
 
 TEST(KeyframePlanner, EveryPlannedFrameMeetsTheTargetWhenTheMinimumGapAllows) {
@@ -111,7 +112,8 @@ TEST(KeyframePlanner, AStricterTargetNeverGivesFewerKeyframes) {
       EXPECT_GE(ks.size(), previous) << "target " << target << " trial " << trial;
       previous = ks.size();
     }
-    EXPECT_EQ(planKeyframes(300, 50.5, 2, 30, pred).size(), planKeyframes(300, 99, 2, 30, pred).size());
+    EXPECT_EQ(planKeyframes(300, 50.5, 2, 30, pred).size(),
+              planKeyframes(300, 99, 2, 30, pred).size());
   }
 }
 
@@ -127,7 +129,8 @@ TEST(KeyframePlanner, MedianCriterionKeepsHalfTheFramesAboveTheTargetWithFewerKe
     EXPECT_LE(med.size(), worst.size()) << target;
     int good = 0, all = 0;
     for (std::size_t j = 1; j < med.size(); ++j)
-      for (int i = med[j - 1] + 1; i < med[j]; ++i, ++all) good += pred(med[j - 1], med[j], i) >= target;
+      for (int i = med[j - 1] + 1; i < med[j]; ++i, ++all)
+        good += pred(med[j - 1], med[j], i) >= target;
     EXPECT_GE(2 * good, all) << target;
   }
   PlanCriterion c;
@@ -184,7 +187,8 @@ TEST(KeyframePlannerFit, TwoRegressorFitRecoversBothSlopes) {
     g.holeFraction = 0.001 * (1 + i % 7);
     g.relDistance = 0.01 * (1 + (i * 5) % 11);
     f.push_back(g);
-    y.push_back(18.0 - 2.5 * std::log10(g.holeFraction + 1e-5) - 4.0 * std::log10(g.relDistance + 1e-3));
+    y.push_back(18.0 - 2.5 * std::log10(g.holeFraction + 1e-5) -
+                4.0 * std::log10(g.relDistance + 1e-3));
   }
   const PsnrFit fit = fitPredictor(f, y, Predictor::HolesDistance);
   EXPECT_NEAR(fit.intercept, 18.0, 1e-9);

@@ -29,7 +29,8 @@ TEST_F(ScheduleTest, ProbeFeaturesVanishAtTheKeyframeAndGrowAwayFromIt) {
   const scenes::CameraPath path = shortPath();
   auto r = keyframe::GeometryRenderer::create(scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  keyframe::KeyframeProbe probe(**r, [&](int i) { return path.cameraAt(i); }, 64);
+  keyframe::KeyframeProbe probe(
+      **r, [&](int i) { return path.cameraAt(i); }, 64);
   // Frame 0 seen from keyframes 0 and 39: the first one covers it exactly.
   auto at = probe.features(0, 39, 0);
   ASSERT_TRUE(at.ok()) << at.error().message;
