@@ -304,7 +304,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   walk->add_option("--out", walkOut, "Output directory")->capture_default_str();
   walk->add_flag("--quiet", quiet, "No progress line");
-  std::string schedule = "fixed", walkPredictor = "holes", walkPlanBy = "worst";
+  std::string schedule = "fixed", walkPredictor = "holes+distance", walkPlanBy = "worst";
   keyframe::PlannerOptions walkPlan;
   walk->add_option("--schedule", schedule,
                    "Keyframes: fixed (every keyframe_every frames of the path) or adaptive "
