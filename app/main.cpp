@@ -14,6 +14,7 @@
 #include "bench/bench_suite.h"
 #include "bench/export.h"
 #include "bench/slurm.h"
+#include "bench/schedule_study.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
 #include "bench/walk.h"
@@ -24,6 +25,7 @@
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
+#include "keyframe/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
@@ -67,6 +69,65 @@ bool parseTau(const std::string& s, double* out) {
   } catch (...) {
     return false;
   }
+}
+
+// "4,6,2^3" → values (each as parseTau); false on a bad element.
+bool parseList(const std::string& s, std::vector<double>* out) {
+  out->clear();
+  std::size_t start = 0;
+  while (start < s.size()) {
+    std::size_t end = s.find(',', start);
+    if (end == std::string::npos) end = s.size();
+    double v = 0;
+    if (!parseTau(s.substr(start, end - start), &v)) return false;
+    out->push_back(v);
+    start = end + 1;
+  }
+  return true;
+}
+
+// Keyframe schedule options of walk and schedule-study (issue #8).
+void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
+                       std::string& planBy, bool withAuto) {
+  c->add_option("--plan-by", planBy,
+                "Adaptive schedule: worst (every in-between frame predicted >= the target), "
+                "mean (each segment's mean predicted PSNR >= the target) or median (each "
+                "segment's median: at least half of all in-between frames)")
+      ->check(CLI::IsMember({"worst", "mean", "median"}))
+      ->capture_default_str();
+  c->add_option("--min-gap", p.minGap, "Adaptive schedule: fewest frames between keyframes")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--max-gap", p.maxGap, "Adaptive schedule: most frames between keyframes")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--probe-size", p.probeSize,
+                "Adaptive schedule: the predictor's low-resolution keyframe probes, pixels on "
+                "the longer side")
+      ->check(CLI::Range(8, 1024))
+      ->capture_default_str();
+  c->add_option("--candidate-stride", p.candidateStride,
+                "Adaptive schedule: try the next keyframe only every this many frames (fewer "
+                "probes to render)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--frames-per-segment", p.framesPerSegment,
+                "Adaptive schedule: in-between frames tested per candidate segment, evenly "
+                "spaced (0 = all; fewer = cheaper, may miss a bad frame)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
+  std::vector<std::string> names;
+  if (withAuto) names.push_back("auto");
+  for (auto pr : keyframe::kAllPredictors) names.push_back(keyframe::predictorName(pr));
+  c->add_option("--predictor", predictor,
+                std::string("Adaptive schedule's predictor of in-between quality: holes (fraction "
+                            "of a low-res frame neither keyframe's forward splat covers), distance "
+                            "(eye offset / keyframe median depth), angle (view direction, deg), "
+                            "stretch (mean |log2| area change of warped pixels), disagreement "
+                            "(colour MSE between the two warped probes), holes+distance (both, two-term fit)") +
+                    (withAuto ? "; auto = the one that correlates best with the fixed walks' PSNR" : ""))
+      ->check(CLI::IsMember(names))
+      ->capture_default_str();
 }
 
 struct Common {
@@ -393,6 +454,19 @@ int main(int argc, char** argv) {
                    "Read keyframes and quad meshes from this database (written by 'hybridwalk bake' "
                    "with the same scene, path, --frames, --depth and LOD options) instead of rendering "
                    "them; the next keyframe is read ahead on a background thread");
+  std::string schedule = "fixed", walkPredictor = "holes+distance", walkPlanBy = "worst";
+  keyframe::PlannerOptions walkPlan;
+  walk->add_option("--schedule", schedule,
+                   "Keyframes: fixed (every keyframe_every frames of the path) or adaptive "
+                   "(error-driven: planned ahead along the path, a new keyframe where the "
+                   "predictor says an in-between frame would fall below --target-psnr)")
+      ->check(CLI::IsMember({"fixed", "adaptive"}))
+      ->capture_default_str();
+  walk->add_option("--target-psnr", walkPlan.targetPsnrDb,
+                   "Adaptive schedule: lowest predicted in-between PSNR, dB (the predictor's fit "
+                   "is calibrated on the built-in indoor scene)")
+      ->capture_default_str();
+  addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
 
   // render
   Common renderC;
@@ -566,6 +640,40 @@ int main(int argc, char** argv) {
   stressCmd->add_option("--out", stressOut, "Output directory")->capture_default_str();
   stressCmd->add_flag("--quick", stressQuick, "Smaller images and fewer cases");
   stressCmd->add_flag("--quiet", stressQuiet, "No progress line");
+
+  // schedule-study
+  Common studyC;
+  std::string studyOut = "out/schedule", studyTau = "2^11", studyPlanarity = "region-local",
+              studySpacings = "4,6,8,10,15,20", studyTargets, studyPredictor = "auto",
+              studyPlanBy = "worst";
+  bool studyNoMerge = false, studyQuiet = false;
+  int studyRef = 10;
+  keyframe::PlannerOptions studyPlan;
+  auto* studyCmd = app.add_subcommand(
+      "schedule-study",
+      "Fixed vs error-driven keyframe schedules: the walk with a keyframe every N frames, the "
+      "predictors' correlation with its measured PSNR, then planned schedules at several "
+      "target PSNRs; keyframes per 100 frames vs median/p5 in-between PSNR. Writes "
+      "schedule.json, runs.csv, correlation.csv, schedule.png, predictor.png, index.html");
+  addCommon(studyCmd, studyC);
+  studyCmd->add_option("--tau", studyTau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->capture_default_str();
+  studyCmd->add_option("--planarity", studyPlanarity, "stencil (paper) or region-local")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  studyCmd->add_flag("--no-merge-strips", studyNoMerge, "Do not merge coplanar leaves");
+  studyCmd->add_option("--spacings", studySpacings, "Fixed schedules: keyframe_every values, frames")
+      ->capture_default_str();
+  studyCmd->add_option("--reference-spacing", studyRef,
+                       "Fixed spacing the headline compares with, frames")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  studyCmd->add_option("--targets", studyTargets,
+                       "Target PSNRs of the adaptive runs, dB, comma-separated (default: per fixed "
+                       "spacing, the target whose plan has as many keyframes)");
+  addPlannerOptions(studyCmd, studyPlan, studyPredictor, studyPlanBy, true);
+  studyCmd->add_option("--out", studyOut, "Output directory")->capture_default_str();
+  studyCmd->add_flag("--quiet", studyQuiet, "No progress lines");
 
   // scenes fetch | list
   auto* scenesCmd = app.add_subcommand("scenes", "Real scenes from Debian packages");
@@ -802,6 +910,58 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  if (studyCmd->parsed()) {
+    bench::ScheduleStudyOptions so;
+    std::vector<double> v;
+    if (!parseList(studySpacings, &v) || v.empty())
+      return fail("--spacings: expected comma-separated frame counts like 4,10,20, got '" + studySpacings + "'");
+    so.fixedSpacings.clear();
+    for (double d : v) {
+      if (d < 1 || d != std::floor(d))
+        return fail("--spacings: expected whole numbers >= 1, got '" + studySpacings + "'");
+      so.fixedSpacings.push_back(static_cast<int>(d));
+    }
+    if (!studyTargets.empty() && !parseList(studyTargets, &so.targets))
+      return fail("--targets: expected comma-separated dB values like 28,30,32, got '" + studyTargets + "'");
+    if (studyPlan.minGap > studyPlan.maxGap)
+      return fail("--min-gap " + std::to_string(studyPlan.minGap) + " exceeds --max-gap " +
+                  std::to_string(studyPlan.maxGap));
+    if (!parseTau(studyTau, &so.walk.lod.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + studyTau + "'");
+    keyframe::parsePlanarity(studyPlanarity.c_str(), &so.walk.lod.planarity);
+    so.walk.lod.mergeStrips = !studyNoMerge;
+    so.walk.depthMode = depthModeOf(studyC.depth);
+    so.walk.maxFrames = studyC.frames;
+    so.referenceSpacing = studyRef;
+    keyframe::parsePlanCriterion(studyPlanBy.c_str(), &studyPlan.criterion);
+    so.planner = studyPlan;
+    so.autoPredictor = studyPredictor == "auto";
+    if (!so.autoPredictor) keyframe::parsePredictor(studyPredictor.c_str(), &so.planner.predictor);
+    so.outDir = studyOut;
+    so.progress = !studyQuiet;
+    auto in = loadInputs(studyC);
+    if (!in) return fail(in.error().message);
+    so.walk.glRenderer = in->context->renderer();
+    so.walk.glVersion = in->context->version();
+    auto res = bench::runScheduleStudy(in->scene, studyC.scene, in->path, so);
+    if (!res) return fail(res.error().message);
+    const json& h = (*res)["headline"];
+    auto n = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
+    std::printf("schedule-study: predictor %s; fixed every %g: %.1f keyframes/100 frames, median %.2f dB;\n"
+                "  adaptive at that median: %s%.1f keyframes/100 (%+.0f %% vs fixed; goal -30 %%); at equal count "
+                "median %+.2f dB, p5 %+.2f dB;\n  at its p5 (%.2f dB): %s%.1f keyframes/100 (%+.0f %% vs fixed)\n  open %s/index.html\n",
+                (*res)["planner"]["predictor"].get<std::string>().c_str(), n(h["reference_spacing"]),
+                n(h["reference_keyframes_per_100"]), n(h["reference_psnr_median"]),
+                h["adaptive_keyframes_is_upper_bound"].get<bool>() ? "<= " : "",
+                n(h["adaptive_keyframes_per_100_at_reference_median"]),
+                -100 * n(h["keyframe_reduction"]), n(h["psnr_median_gain_at_equal_count"]),
+                n(h["psnr_p5_gain_at_equal_count"]), n(h["reference_psnr_p5"]),
+                h["adaptive_keyframes_at_p5_is_upper_bound"].get<bool>() ? "<= " : "",
+                n(h["adaptive_keyframes_per_100_at_reference_p5"]),
+                -100 * n(h["keyframe_reduction_at_p5"]), studyOut.c_str());
+    return 0;
+  }
+
   if (lod->parsed()) {
     keyframe::LodOptions lo;
     if (!parseTau(lodTau, &lo.tau))
@@ -877,6 +1037,9 @@ int main(int argc, char** argv) {
   wo.outDir = walkOut;
   wo.progress = !quiet;
   wo.keepFrames = false;  // only the summary is printed; frames go to report.json
+  if (schedule == "adaptive" && walkPlan.minGap > walkPlan.maxGap)
+    return fail("--min-gap " + std::to_string(walkPlan.minGap) + " exceeds --max-gap " +
+                std::to_string(walkPlan.maxGap));
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
@@ -892,18 +1055,57 @@ int main(int argc, char** argv) {
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
+  if (!walkKeyframes.empty() && schedule == "adaptive")
+    return fail("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
+  json plannerJson;
+  if (schedule == "adaptive") {
+    keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
+    keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
+    keyframe::RenderOptions ropt;
+    ropt.depthMode = wo.depthMode;
+    auto probeRenderer = keyframe::GeometryRenderer::create(in->scene, ropt);
+    if (!probeRenderer) return fail(probeRenderer.error().message);
+    const int frames = wo.maxFrames > 0 ? std::min(wo.maxFrames, in->path.frames) : in->path.frames;
+    auto plan = keyframe::planAdaptiveSchedule(
+        **probeRenderer, [&](int i) { return in->path.cameraAt(i); }, frames, walkPlan);
+    if (!plan) return fail(plan.error().message);
+    wo.keyframeFrames = plan->keyframes;
+    plannerJson = {{"predictor", walkPredictor}, {"criterion", walkPlanBy},
+                   {"target_psnr", walkPlan.targetPsnrDb},
+                   {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
+                   {"probe_size", walkPlan.probeSize},
+                   {"candidate_stride", walkPlan.candidateStride},
+                   {"frames_per_segment", walkPlan.framesPerSegment},
+                   {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope},
+                            {"slope2", plan->fit.slope2}}},
+                   {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
+                   {"probes", plan->probes}, {"evaluations", plan->evaluations}};
+    std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",
+                 plan->keyframes.size(), frames, plan->planMs, plan->probes, plan->probeRenderMs);
+  }
   auto res = bench::runWalk(in->scene, walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
+  if (!plannerJson.is_null()) {
+    // The planner's settings and cost go into the report's summary.
+    auto text = readFile(walkOut + "/report.json");
+    if (!text) return fail(text.error().message);
+    json report = json::parse(*text, nullptr, false);
+    if (report.is_discarded()) return fail("cannot parse " + walkOut + "/report.json");
+    report["summary"]["keyframe_schedule"] = "adaptive";
+    report["summary"]["planner"] = plannerJson;
+    if (auto st = writeFileAtomic(walkOut + "/report.json", report.dump(1)); !st)
+      return fail(st.error().message);
+  }
   const json& s = res->report["summary"];
   auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
   std::printf(
-      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes), tau %s, %s\n"
+      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes, %s schedule), tau %s, %s\n"
       "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
       "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
       "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
       "report: %s/report.json\n",
       walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
-      s["frames"].get<int>(), s["keyframes"].get<int>(), tauS.c_str(),
+      s["frames"].get<int>(), s["keyframes"].get<int>(), schedule.c_str(), tauS.c_str(),
       s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
       num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
       100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),

@@ -1,0 +1,240 @@
+// The error-driven keyframe planner's schedule logic with fake predictors:
+// gaps respected, ends are keyframes, harder stretches get denser keyframes,
+// a stricter target never gives fewer keyframes; and the fit/correlation
+// helpers the schedule study uses.
+#include "keyframe/keyframe_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace hw::keyframe {
+namespace {
+
+// Nested by construction: a frame's predicted PSNR falls with its distance to
+// the nearer keyframe, scaled by a per-frame difficulty ≥ 0. A sub-segment
+// only brings keyframes closer, so it is never predicted worse.
+FramePredictor difficultyPredictor(const std::vector<double>& difficulty) {
+  return [difficulty](int k0, int k1, int i) {
+    return 50.0 - difficulty[static_cast<std::size_t>(i)] * std::min(i - k0, k1 - i);
+  };
+}
+
+void expectValidSchedule(const std::vector<int>& ks, int frames, int minGap, int maxGap) {
+  ASSERT_FALSE(ks.empty());
+  EXPECT_EQ(ks.front(), 0);
+  EXPECT_EQ(ks.back(), frames - 1);
+  for (std::size_t j = 1; j < ks.size(); ++j) {
+    const int gap = ks[j] - ks[j - 1];
+    EXPECT_LE(gap, maxGap) << "between " << ks[j - 1] << " and " << ks[j];
+    if (j + 1 < ks.size()) {
+      EXPECT_GE(gap, minGap) << "between " << ks[j - 1] << " and " << ks[j];
+    }
+    EXPECT_GE(gap, 1);
+  }
+}
+
+TEST(KeyframePlanner, AnAlwaysGoodPredictorGivesMaximumGaps) {
+  const auto ks = planKeyframes(101, 30, 2, 25, [](int, int, int) { return 60.0; });
+  EXPECT_EQ(ks, (std::vector<int>{0, 25, 50, 75, 100}));
+}
+
+TEST(KeyframePlanner, AnAlwaysBadPredictorGivesMinimumGaps) {
+  const auto ks = planKeyframes(11, 30, 3, 25, [](int, int, int) { return 10.0; });
+  EXPECT_EQ(ks, (std::vector<int>{0, 3, 6, 9, 10}));  // the last gap may be shorter
+}
+
+TEST(KeyframePlanner, NanPredictionFailsLikeALowOne) {
+  const auto ks = planKeyframes(9, 30, 2, 8, [](int, int, int) { return std::nan(""); });
+  EXPECT_EQ(ks, (std::vector<int>{0, 2, 4, 6, 8}));
+}
+
+TEST(KeyframePlanner, SingleAndTwoFramePaths) {
+  EXPECT_EQ(planKeyframes(1, 30, 1, 5, [](int, int, int) { return 0.0; }), std::vector<int>{0});
+  EXPECT_EQ(planKeyframes(2, 30, 3, 5, [](int, int, int) { return 0.0; }),
+            (std::vector<int>{0, 1}));
+}
+
+TEST(KeyframePlanner, EveryPlannedFrameMeetsTheTargetWhenTheMinimumGapAllows) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(0.2, 3.0);
+  std::vector<double> diff(200);
+  for (auto& v : diff) v = d(rng);
+  const auto pred = difficultyPredictor(diff);
+  long evals = 0;
+  const auto ks = planKeyframes(200, 44.0, 1, 40, pred, &evals);
+  expectValidSchedule(ks, 200, 1, 40);
+  EXPECT_GT(evals, 0);
+  for (std::size_t j = 1; j < ks.size(); ++j)
+    for (int i = ks[j - 1] + 1; i < ks[j]; ++i) EXPECT_GE(pred(ks[j - 1], ks[j], i), 44.0) << i;
+}
+
+TEST(KeyframePlanner, HardStretchesGetDenserKeyframes) {
+  // Frames 0..99 easy, 100..199 four times as hard.
+  std::vector<double> diff(200, 0.5);
+  for (int i = 100; i < 200; ++i) diff[static_cast<std::size_t>(i)] = 2.0;
+  const auto ks = planKeyframes(200, 40.0, 2, 60, difficultyPredictor(diff));
+  expectValidSchedule(ks, 200, 2, 60);
+  int easy = 0, hard = 0;
+  for (int k : ks) (k < 100 ? easy : hard) += 1;
+  EXPECT_GE(hard, 3 * easy) << "easy " << easy << " hard " << hard;
+}
+
+TEST(KeyframePlanner, GapsAndEndsHoldForRandomPredictorsAndSettings) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int frames = std::uniform_int_distribution<int>(1, 150)(rng);
+    const int minGap = std::uniform_int_distribution<int>(1, 8)(rng);
+    const int maxGap = minGap + std::uniform_int_distribution<int>(0, 30)(rng);
+    std::vector<double> noise(static_cast<std::size_t>(frames) * 7 + 13);
+    for (auto& v : noise) v = std::uniform_real_distribution<double>(10, 50)(rng);
+    // Not nested at all: arbitrary values per (k0, k1, i).
+    auto pred = [&](int k0, int k1, int i) {
+      return noise[static_cast<std::size_t>(k0 * 3 + k1 * 5 + i) % noise.size()];
+    };
+    const auto ks = planKeyframes(frames, 30.0, minGap, maxGap, pred);
+    expectValidSchedule(ks, frames, minGap, maxGap);
+    EXPECT_TRUE(std::is_sorted(ks.begin(), ks.end()));
+  }
+}
+
+TEST(KeyframePlanner, AStricterTargetNeverGivesFewerKeyframes) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> diff(300);
+    for (auto& v : diff) v = std::uniform_real_distribution<double>(0.0, 4.0)(rng);
+    const auto pred = difficultyPredictor(diff);
+    std::size_t previous = 0;
+    for (double target = 10; target <= 50; target += 0.5) {
+      const auto ks = planKeyframes(300, target, 2, 30, pred);
+      EXPECT_GE(ks.size(), previous) << "target " << target << " trial " << trial;
+      previous = ks.size();
+    }
+    EXPECT_EQ(planKeyframes(300, 50.5, 2, 30, pred).size(),
+              planKeyframes(300, 99, 2, 30, pred).size());
+  }
+}
+
+TEST(KeyframePlanner, MedianCriterionKeepsHalfTheFramesAboveTheTargetWithFewerKeyframes) {
+  std::mt19937 rng(5);
+  std::vector<double> diff(240);
+  for (auto& v : diff) v = std::uniform_real_distribution<double>(0.2, 3.0)(rng);
+  const auto pred = difficultyPredictor(diff);
+  for (double target : {30.0, 38.0, 44.0}) {
+    const auto med = planKeyframes(240, target, 2, 40, pred, nullptr, PlanCriterion::SegmentMedian);
+    const auto worst = planKeyframes(240, target, 2, 40, pred, nullptr, PlanCriterion::WorstFrame);
+    expectValidSchedule(med, 240, 2, 40);
+    EXPECT_LE(med.size(), worst.size()) << target;
+    int good = 0, all = 0;
+    for (std::size_t j = 1; j < med.size(); ++j)
+      for (int i = med[j - 1] + 1; i < med[j]; ++i, ++all)
+        good += pred(med[j - 1], med[j], i) >= target;
+    EXPECT_GE(2 * good, all) << target;
+  }
+  PlanCriterion c;
+  for (const char* n : {"worst", "mean", "median"}) {
+    ASSERT_TRUE(parsePlanCriterion(n, &c));
+    EXPECT_STREQ(planCriterionName(c), n);
+  }
+  EXPECT_FALSE(parsePlanCriterion("p5", &c));
+}
+
+TEST(KeyframePlanner, CheaperSearchKeepsGapsAndCallsThePredictorLess) {
+  std::mt19937 rng(9);
+  std::vector<double> diff(300);
+  for (auto& v : diff) v = std::uniform_real_distribution<double>(0.2, 3.0)(rng);
+  const auto pred = difficultyPredictor(diff);
+  long full = 0, cheap = 0;
+  const auto a = planKeyframes(300, 40.0, 2, 30, pred, &full);
+  PlanSearch s;
+  s.minGap = 2;
+  s.maxGap = 30;
+  s.candidateStride = 3;
+  s.framesPerSegment = 3;
+  const auto b = planKeyframes(300, 40.0, s, pred, &cheap);
+  expectValidSchedule(b, 300, 2, 30);
+  EXPECT_LT(cheap * 3, full);
+  // Within a factor of two of the full search's count on this predictor.
+  EXPECT_LE(b.size(), 2 * a.size());
+  EXPECT_GE(2 * b.size(), a.size());
+  // Candidates step by 3 from k + minGap (or land on the last frame / k + maxGap).
+  for (std::size_t j = 1; j + 1 < b.size(); ++j) {
+    const int gap = b[j] - b[j - 1];
+    EXPECT_TRUE((gap - 2) % 3 == 0 || gap == 30) << gap;
+  }
+  // An always-good predictor still reaches the maximum gap.
+  s.candidateStride = 4;  // 2, 6, ..., 26, then 30
+  EXPECT_EQ(planKeyframes(61, 30, s, [](int, int, int) { return 60.0; }),
+            (std::vector<int>{0, 30, 60}));
+}
+
+TEST(KeyframePlannerFit, LineThroughExactPointsIsRecovered) {
+  const std::vector<double> x{1, 2, 3, 4, std::nan("")}, y{5, 3, 1, -1, 7};
+  const PsnrFit f = fitLine(x, y);
+  EXPECT_NEAR(f.slope, -2.0, 1e-12);
+  EXPECT_NEAR(f.intercept, 7.0, 1e-12);
+  EXPECT_NEAR(f.predict(2.5), 2.0, 1e-12);
+  EXPECT_TRUE(std::isnan(fitLine({1, 1}, {2, 3}).slope));
+}
+
+TEST(KeyframePlannerFit, TwoRegressorFitRecoversBothSlopes) {
+  std::vector<FrameFeatures> f;
+  std::vector<double> y;
+  for (int i = 0; i < 30; ++i) {
+    FrameFeatures g;
+    g.holeFraction = 0.001 * (1 + i % 7);
+    g.relDistance = 0.01 * (1 + (i * 5) % 11);
+    f.push_back(g);
+    y.push_back(18.0 - 2.5 * std::log10(g.holeFraction + 1e-5) -
+                4.0 * std::log10(g.relDistance + 1e-3));
+  }
+  const PsnrFit fit = fitPredictor(f, y, Predictor::HolesDistance);
+  EXPECT_NEAR(fit.intercept, 18.0, 1e-9);
+  EXPECT_NEAR(fit.slope, -2.5, 1e-9);
+  EXPECT_NEAR(fit.slope2, -4.0, 1e-9);
+  EXPECT_NEAR(predictPsnr(fit, f[3], Predictor::HolesDistance), y[3], 1e-9);
+  const PsnrFit one = fitPredictor(f, y, Predictor::Holes);  // one regressor: slope2 stays 0
+  EXPECT_EQ(one.slope2, 0.0);
+  EXPECT_LT(one.slope, 0.0);
+}
+
+TEST(KeyframePlannerFit, CorrelationsOfMonotoneAndIndependentData) {
+  std::vector<double> x, y, z;
+  for (int i = 0; i < 50; ++i) {
+    x.push_back(i);
+    y.push_back(std::exp(0.1 * i));  // monotone, not linear
+    z.push_back(i % 2 ? 1.0 : -1.0);
+  }
+  EXPECT_NEAR(spearman(x, y), 1.0, 1e-12);
+  EXPECT_LT(pearson(x, y), 0.95);
+  EXPECT_GT(pearson(x, y), 0.7);
+  EXPECT_NEAR(pearson(x, x), 1.0, 1e-12);
+  std::vector<double> neg(x.rbegin(), x.rend());
+  EXPECT_NEAR(spearman(x, neg), -1.0, 1e-12);
+  EXPECT_LT(std::abs(pearson(x, z)), 0.1);
+  EXPECT_TRUE(std::isnan(pearson({1, 2, 3}, {4, 4, 4})));
+}
+
+TEST(KeyframePlannerFit, RegressorsAreFiniteAtZeroAndGrowWithTheFeature) {
+  FrameFeatures zero, more;
+  more.relDistance = 0.2;
+  more.angleDeg = 5;
+  more.holeFraction = 0.01;
+  more.stretch = 0.3;
+  more.disagreementMse = 100;
+  for (Predictor p : kAllPredictors) {
+    EXPECT_TRUE(std::isfinite(predictorValue(zero, p))) << predictorName(p);
+    EXPECT_GT(predictorValue(more, p), predictorValue(zero, p)) << predictorName(p);
+    Predictor back;
+    ASSERT_TRUE(parsePredictor(predictorName(p), &back));
+    EXPECT_EQ(back, p);
+    EXPECT_LT(defaultFit(p).slope, 0) << "worse feature must predict lower PSNR";
+  }
+  Predictor none;
+  EXPECT_FALSE(parsePredictor("psnr", &none));
+}
+
+}  // namespace
+}  // namespace hw::keyframe

@@ -1,0 +1,93 @@
+// Error-driven keyframes on OSMesa: the probe's features vanish at a
+// keyframe's own camera and grow away from it; an adaptive walk on a short
+// indoor path uses fewer keyframes than the fixed schedule at a lax target
+// and more at a strict one, and the strict plan's frames are better.
+#include <gtest/gtest.h>
+
+#include "bench/walk.h"
+#include "gl_fixture.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_planner.h"
+#include "scenes/procedural.h"
+
+namespace hw {
+namespace {
+
+class ScheduleTest : public test::GlTest {
+ protected:
+  static scenes::CameraPath shortPath() {
+    scenes::CameraPath p = scenes::defaultIndoorPath();
+    p.width = p.height = 128;
+    p.frames = 40;
+    p.keyframeEvery = 10;  // 5 keyframes: 0, 10, 20, 30, 39
+    return p;
+  }
+};
+
+TEST_F(ScheduleTest, ProbeFeaturesVanishAtTheKeyframeAndGrowAwayFromIt) {
+  const scenes::Scene scene = scenes::makeIndoorScene(20000);
+  const scenes::CameraPath path = shortPath();
+  auto r = keyframe::GeometryRenderer::create(scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  keyframe::KeyframeProbe probe(
+      **r, [&](int i) { return path.cameraAt(i); }, 64);
+  // Frame 0 seen from keyframes 0 and 39: the first one covers it exactly.
+  auto at = probe.features(0, 39, 0);
+  ASSERT_TRUE(at.ok()) << at.error().message;
+  EXPECT_EQ(at->holeFraction, 0.0);
+  EXPECT_EQ(at->relDistance, 0.0);
+  EXPECT_NEAR(at->angleDeg, 0.0, 1e-6);
+  EXPECT_LT(at->stretch, 0.05);
+  // Farther from both keyframes: more of the frame is uncovered.
+  auto nearF = probe.features(0, 4, 2);
+  auto farF = probe.features(0, 39, 20);
+  ASSERT_TRUE(nearF.ok() && farF.ok());
+  EXPECT_GT(farF->relDistance, nearF->relDistance);
+  EXPECT_GT(farF->holeFraction, nearF->holeFraction);
+  EXPECT_EQ(probe.probesRendered(), 3);  // 0, 39, 4: probes are kept
+}
+
+TEST_F(ScheduleTest, LaxTargetUsesFewerKeyframesThanFixedAndStrictMoreWithBetterFrames) {
+  const scenes::Scene scene = scenes::makeIndoorScene(20000);
+  const scenes::CameraPath path = shortPath();
+  auto r = keyframe::GeometryRenderer::create(scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto cameraOf = [&](int i) { return path.cameraAt(i); };
+
+  bench::WalkOptions wo;
+  wo.progress = false;
+  wo.strips = 0;
+  auto fixed = bench::runWalk(scene, "indoor", path, wo);
+  ASSERT_TRUE(fixed.ok()) << fixed.error().message;
+  const int fixedKeys = fixed->report["summary"]["keyframes"].get<int>();
+  ASSERT_EQ(fixedKeys, 5);
+
+  keyframe::PlannerOptions po;
+  po.minGap = 2;
+  po.maxGap = 30;
+  po.targetPsnrDb = 10;  // lax
+  auto lax = keyframe::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
+  ASSERT_TRUE(lax.ok()) << lax.error().message;
+  po.targetPsnrDb = 40;  // strict
+  auto strict = keyframe::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
+  ASSERT_TRUE(strict.ok()) << strict.error().message;
+  EXPECT_GT(lax->probes, 0);
+  EXPECT_GT(lax->evaluations, 0);
+
+  wo.keyframeFrames = lax->keyframes;
+  auto laxWalk = bench::runWalk(scene, "indoor", path, wo);
+  ASSERT_TRUE(laxWalk.ok()) << laxWalk.error().message;
+  wo.keyframeFrames = strict->keyframes;
+  auto strictWalk = bench::runWalk(scene, "indoor", path, wo);
+  ASSERT_TRUE(strictWalk.ok()) << strictWalk.error().message;
+  const auto& ls = laxWalk->report["summary"];
+  const auto& ss = strictWalk->report["summary"];
+  EXPECT_EQ(ls["keyframe_frames"].get<std::vector<int>>(), lax->keyframes);
+  EXPECT_LT(ls["keyframes"].get<int>(), fixedKeys);
+  EXPECT_GT(ss["keyframes"].get<int>(), fixedKeys);
+  EXPECT_GT(ss["psnr"]["median"].get<double>(), ls["psnr"]["median"].get<double>() + 3.0);
+  EXPECT_GT(ss["psnr"]["p5"].get<double>(), ls["psnr"]["p5"].get<double>());
+}
+
+}  // namespace
+}  // namespace hw
