@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/file_io.h"
+#include "core/gl/context.h"
 #include "core/machine.h"
 #include "core/metrics.h"
 #include "core/timer.h"
@@ -111,6 +112,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames, "walk");
+  long long glErrors = 0;  // glGetError at each frame's end; plus KHR_debug when installed
+  const long long debugErrors0 = gl::debugCallbackErrors();
 
   // Strip frames: spread over the in-between frames.
   std::vector<int> inBetween;
@@ -266,6 +269,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     // Drop GPU copies of keyframes no later frame can use.
     for (auto it = sources.begin(); it != sources.end();)
       it = it->first < k0 ? sources.erase(it) : std::next(it);
+    glErrors += gl::drainGlErrors();
     progress.update(i + 1);
   }
 
@@ -302,6 +306,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["lod_build_ms"] = stats(lodBuildMs);
   summary["one_pixel_leaves_per_keyframe"] = stats(onePixelLeaves);
   summary["speedup_reference_over_in_between"] = stats(speedup);
+  summary["gl_errors"] =
+      std::max(glErrors, debugErrors0 < 0 ? 0LL : gl::debugCallbackErrors() - debugErrors0);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 
