@@ -18,6 +18,7 @@
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
+#include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
@@ -181,6 +182,7 @@ int runRender(const Common& o, const std::string& outDir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
   CLI::App app{
       "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
       "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "

@@ -16,6 +16,7 @@
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
+#include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/keyframe_cache.h"
@@ -114,6 +115,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   Progress progress(opt.progress, frames, "walk");
   long long glErrors = 0;  // glGetError at each frame's end; plus KHR_debug when installed
   const long long debugErrors0 = gl::debugCallbackErrors();
+  json rssKiB = json::array();  // [frame, KiB] after every 500th frame (scripts/soak.sh)
 
   // Strip frames: spread over the in-between frames.
   std::vector<int> inBetween;
@@ -270,6 +272,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     for (auto it = sources.begin(); it != sources.end();)
       it = it->first < k0 ? sources.erase(it) : std::next(it);
     glErrors += gl::drainGlErrors();
+    if ((i + 1) % 500 == 0) rssKiB.push_back({i + 1, residentKiB()});
     progress.update(i + 1);
   }
 
@@ -308,6 +311,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["speedup_reference_over_in_between"] = stats(speedup);
   summary["gl_errors"] =
       std::max(glErrors, debugErrors0 < 0 ? 0LL : gl::debugCallbackErrors() - debugErrors0);
+  summary["resident_kib_every_500_frames"] = rssKiB;
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 
