@@ -21,6 +21,7 @@
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
+#include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
@@ -353,6 +354,7 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
 }  // namespace
 
 int main(int argc, char** argv) {
+  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
   CLI::App app{
       "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
       "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "

@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "core/file_io.h"
+#include "core/gl/context.h"
 #include "core/machine.h"
+#include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/keyframe_cache.h"
@@ -116,6 +118,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames, "walk");
+  long long glErrors = 0;  // glGetError at each frame's end; plus KHR_debug when installed
+  const long long debugErrors0 = gl::debugCallbackErrors();
+  json rssKiB = json::array();  // [frame, KiB] after every 500th frame (scripts/soak.sh)
 
   // Strip frames: spread over the in-between frames.
   std::vector<int> inBetween;
@@ -373,6 +378,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     // Drop GPU copies of keyframes no later frame can use.
     for (auto it = sources.begin(); it != sources.end();)
       it = it->first < k0 ? sources.erase(it) : std::next(it);
+    glErrors += gl::drainGlErrors();
+    if ((i + 1) % 500 == 0) rssKiB.push_back({i + 1, residentKiB()});
     progress.update(i + 1);
   }
 
@@ -422,6 +429,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["lod_build_ms"] = stats(lodBuildMs);
   summary["one_pixel_leaves_per_keyframe"] = stats(onePixelLeaves);
   summary["speedup_reference_over_in_between"] = stats(speedup);
+  summary["gl_errors"] =
+      std::max(glErrors, debugErrors0 < 0 ? 0LL : gl::debugCallbackErrors() - debugErrors0);
+  summary["resident_kib_every_500_frames"] = rssKiB;
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 

@@ -4,6 +4,7 @@
 // the warper draw into their FBOs, the composed frame is uploaded into a
 // texture and drawn with one full-screen triangle.
 #include "app/viewer.h"
+#include "app/fly_pose.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -33,7 +34,6 @@ namespace hw::app {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMaxPitch = 89.0 * kPi / 180.0;
 constexpr double kMouseRadiansPerPixel = 0.0025;
 constexpr double kShiftFactor = 4.0;
 constexpr double kSpeedStep = 1.5;
@@ -128,10 +128,6 @@ void charCallback(GLFWwindow* w, unsigned codepoint) {
 
 void keyCallback(GLFWwindow* w, int key, int, int action, int) {
   if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
-}
-
-glm::dvec3 forwardFrom(double yaw, double pitch) {
-  return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
 }
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
@@ -238,8 +234,7 @@ class Viewer {
   Camera base_;                 // fov, near, far of the session
   Camera home_;
   Camera cam_, prevCam_;
-  glm::dvec3 eye_{0.0};
-  double yaw_ = 0, pitch_ = 0;
+  FlyPose pose_;  // fly controls (app/fly_pose.h)
   glm::dvec3 velocity_{0.0};  // smoothed, units/s
   double yawRate_ = 0, pitchRate_ = 0;
   double moveSpeed_ = 1;  // units/s
@@ -476,15 +471,12 @@ void Viewer::setPlayPath(const scenes::CameraPath& path) {
 }
 
 void Viewer::poseFromCamera(const Camera& c) {
-  eye_ = c.eye;
-  yaw_ = std::atan2(c.forward.x, -c.forward.z);
-  pitch_ = std::clamp(std::asin(std::clamp(c.forward.y, -1.0, 1.0)), -kMaxPitch, kMaxPitch);
+  pose_ = flyPoseFromCamera(c);
 }
 
 Camera Viewer::cameraFromPose() const {
   // Scenes are Y-up (scenes/scene.h); pitch is clamped away from the pole.
-  return Camera::lookAt(eye_, eye_ + forwardFrom(yaw_, pitch_), glm::dvec3(0, 1, 0),
-                        base_.fovYRadians, width_, height_, base_.nearPlane, base_.farPlane);
+  return flyCamera(pose_, sized(base_));
 }
 
 void Viewer::message(const std::string& text) {
@@ -666,15 +658,9 @@ void Viewer::updateCamera(double dt) {
     cam_ = sized(playCams_[static_cast<std::size_t>(playIndex_)]);
     playIndex_ = (playIndex_ + 1) % static_cast<int>(playCams_.size());
   } else {
-    yaw_ += dmx * kMouseRadiansPerPixel;
-    pitch_ = std::clamp(pitch_ - dmy * kMouseRadiansPerPixel, -kMaxPitch, kMaxPitch);
-    if (move != glm::dvec3(0.0)) {
-      const bool fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
-      const double step = moveSpeed_ * (fast ? kShiftFactor : 1.0) * dt;
-      const glm::dvec3 fwd = forwardFrom(yaw_, pitch_);
-      const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 1, 0)));
-      eye_ += step * (move.z * fwd + move.x * right + move.y * glm::dvec3(0, 1, 0));
-    }
+    const bool fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
+    flyUpdate(pose_, dmx * kMouseRadiansPerPixel, -dmy * kMouseRadiansPerPixel, move,
+              moveSpeed_ * (fast ? kShiftFactor : 1.0) * dt);
     cam_ = cameraFromPose();
   }
   // Smoothed motion, for placing the next keyframe ahead of the viewer.
@@ -725,8 +711,8 @@ Camera Viewer::aheadCamera() const {
   const glm::dvec3 eye = cam_.eye + velocity_ * t;
   const double yaw = std::atan2(cam_.forward.x, -cam_.forward.z) + yawRate_ * t;
   const double pitch = std::clamp(std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) + pitchRate_ * t,
-                                  -kMaxPitch, kMaxPitch);
-  return Camera::lookAt(eye, eye + forwardFrom(yaw, pitch), glm::dvec3(0, 1, 0), cam_.fovYRadians,
+                                  -kMaxFlyPitch, kMaxFlyPitch);
+  return Camera::lookAt(eye, eye + flyForward(yaw, pitch), glm::dvec3(0, 1, 0), cam_.fovYRadians,
                         width_, height_, cam_.nearPlane, cam_.farPlane);
 }
 

@@ -11,6 +11,15 @@ struct GLFWwindow;
 
 namespace hw::gl {
 
+// OpenGL error accounting for callers outside gl/ folders (issue #7: a walk
+// counts errors per frame). Both need a current context.
+// Drains glGetError and returns how many errors were pending (0: none).
+int drainGlErrors();
+// GL_DEBUG_TYPE_ERROR messages the KHR_debug callback has seen in this
+// process, or −1 when no callback is installed (release builds without
+// HW_GL_DEBUG=1; see loadGlFunctions in gl_api.h).
+long long debugCallbackErrors();
+
 class Context {
  public:
   virtual ~Context() = default;

@@ -94,7 +94,9 @@
   X(PFNGLDELETEQUERIESPROC, glDeleteQueries)                             \
   X(PFNGLBEGINQUERYPROC, glBeginQuery)                                   \
   X(PFNGLENDQUERYPROC, glEndQuery)                                       \
-  X(PFNGLGETQUERYOBJECTUIVPROC, glGetQueryObjectuiv)
+  X(PFNGLGETQUERYOBJECTUIVPROC, glGetQueryObjectuiv)                     \
+  X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback)               \
+  X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl)
 
 namespace hwgl {
 #define HW_GL_DECLARE(type, name) extern type name;
@@ -111,7 +113,15 @@ namespace hw::gl {
 using GetProcAddress = void* (*)(const char* name);
 
 // Fills the table from `getProc`; an error names every missing entry point.
+// In debug builds (no NDEBUG), or with HW_GL_DEBUG=1 in the environment, it
+// then installs the KHR_debug callback (installDebugCallback) in the current
+// context.
 Status loadGlFunctions(GetProcAddress getProc);
+
+// KHR_debug (core since 4.3): synchronous debug output into a callback that
+// counts GL_DEBUG_TYPE_ERROR messages (debugCallbackErrors in context.h) and
+// prints the first few to stderr. Needs a current context.
+void installDebugCallback();
 
 // glGetError drained into one message naming `where`; ok when no error.
 Status checkGlError(const char* where);

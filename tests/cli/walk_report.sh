@@ -13,6 +13,7 @@ for key in '"frames"' '"summary"' '"index"' '"is_keyframe"' '"psnr"' '"ssim"' \
            '"median"' '"p95"'; do
   check "report has $key" grep -q "$key" "$r"
 done
+check "report counts 0 OpenGL errors" grep -q '"gl_errors": 0' "$r"
 check "12 frames saved" test "$(ls "$tmp/w/frames" | wc -l)" -eq 12
 check "12 hole masks saved" test "$(ls "$tmp/w/holes" | wc -l)" -eq 12
 check "2 strips" test "$(ls "$tmp/w"/strip_*.png | wc -l)" -eq 2

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -53,7 +54,7 @@ uniform sampler2D uKey;
 uniform float uSkyEyeZ;  // > 0 while drawing sky rectangles
 uniform float uAlpha;    // 1; 254/255 marks the background layer in a fused pair
 layout(location = 0) out vec4 oColour;
-layout(location = 1) out float oEyeZ;
+layout(location = 1) out float oEyeZ;  // R32F: relative 6e-8, vs the depth merge's 2 % tolerance
 void main() {
   oColour = vec4(textureProj(uKey, vTex).rgb, uAlpha);
   oEyeZ = uSkyEyeZ > 0.0 ? uSkyEyeZ : vEyeZ;
@@ -74,17 +75,58 @@ void main() {}
 // Alpha of background pixels in a fused pair: exactly 254 in RGBA8.
 constexpr float kBackgroundAlpha = 254.0f / 255.0f;
 
+// Float is enough here (issue #7, "precision where it matters"); corners,
+// matrices and unprojection are computed in double and rounded once:
+//  - pos: rounding a corner to float moves it ≤ 2^-24·|p|; with the shader's
+//    float product uViewProj·pos (the view translation −R·eye cancels against
+//    R·p) the eye-space error is ≲ 2·2^-24·(|p| + |eye|) ≈ 3e-4 units at the
+//    largest scene's 2,400 units from the origin (torcs:forza; indoor 33,
+//    oa_dm5 35, morse 75, outdoor 160). On screen that is ≤ 3e-4·f/z px:
+//    f = 443 px at 512 px / 60°, so 0.07 px at z = 2 and 0.27 px at a 0.5
+//    near plane, inside the 0.5 px reprojection budget; the other scenes stay
+//    below 0.04 px even at their near planes (indoor 0.1, outdoor 0.5).
+//  - sky directions (w = 0) are unit-length: 6e-8 rad ≈ 3e-5 px.
+//  - tex: s, t ∈ [0, 1] and (s·q, t·q, q) each carry a relative 6e-8, so the
+//    divided texcoord is off by ≤ 2e-7 · width ≈ 1e-3 px at 4096 px.
 struct WarpVertex {
   float pos[4];
   float tex[3];
 };
 
+// The GL objects of one uploaded keyframe, with the storage sizes they hold.
+struct GlSlot {
+  GLuint vao = 0, vbo = 0, tex = 0;
+  GLsizeiptr vboBytes = 0;
+  int texWidth = 0, texHeight = 0;
+};
+
+void destroySlot(GlSlot& s) {
+  if (s.vao) glDeleteVertexArrays(1, &s.vao);
+  if (s.vbo) glDeleteBuffers(1, &s.vbo);
+  if (s.tex) glDeleteTextures(1, &s.tex);
+  s = GlSlot{};
+}
+
+// Slots of dropped sources, reused by the next upload. llvmpipe keeps buffer
+// and texture storage in malloc'd memory, so creating and deleting a vertex
+// buffer (200 KiB–1 MiB, a different size for every keyframe) and a texture
+// per keyframe fragmented glibc's heap: the 10,000-frame soak's [heap] RSS
+// grew 42 → 51 MiB while the live heap stayed at 43 MiB (issue #7). A walk
+// holds at most three sources at a time, so a few slots cover it.
+struct SlotPool {
+  static constexpr std::size_t kMaxFree = 4;
+  std::vector<GlSlot> free;
+  SlotPool() { free.reserve(kMaxFree); }
+  ~SlotPool() {
+    for (GlSlot& s : free) destroySlot(s);
+  }
+};
+
 class GlWarpSource final : public WarpSource {
  public:
   ~GlWarpSource() override {
-    if (vao) glDeleteVertexArrays(1, &vao);
-    if (vbo) glDeleteBuffers(1, &vbo);
-    if (tex) glDeleteTextures(1, &tex);
+    if (pool && pool->free.size() < SlotPool::kMaxFree) pool->free.push_back(slot);
+    else destroySlot(slot);
   }
   const Camera& keyframeCamera() const override { return camera; }
   int quadCount() const override { return quads; }
@@ -92,7 +134,9 @@ class GlWarpSource final : public WarpSource {
   Camera camera;
   int quads = 0;
   int skyRects = 0;  // drawn after the quads' vertices in the same buffer
-  GLuint vao = 0, vbo = 0, tex = 0;
+  GlSlot slot;
+  // Shared so that sources outliving the warper still free their objects.
+  std::shared_ptr<SlotPool> pool;
 };
 
 class GlWarper final : public Warper {
@@ -128,6 +172,12 @@ class GlWarper final : public Warper {
                        std::to_string(mesh.width) + "x" + std::to_string(mesh.height));
     Stopwatch sw;
     auto src = std::make_unique<GlWarpSource>();
+    src->pool = pool_;
+    if (!pool_->free.empty()) {
+      src->slot = pool_->free.back();
+      pool_->free.pop_back();
+    }
+    GlSlot& slot = src->slot;
     src->camera = kf.camera;
     const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
     if (options_.skyBackdrop) emptyRects(kf.covered, skyRects_);
@@ -183,30 +233,50 @@ class GlWarper final : public Warper {
         v.tex[2] = 1.0f;
       }
     }
-    glGenVertexArrays(1, &src->vao);
-    glBindVertexArray(src->vao);
-    glGenBuffers(1, &src->vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, src->vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scratch_.size() * sizeof(WarpVertex)),
-                 scratch_.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
-                          reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
-                          reinterpret_cast<void*>(offsetof(WarpVertex, tex)));
-    glBindVertexArray(0);
+    if (!slot.vao) {
+      glGenVertexArrays(1, &slot.vao);
+      glBindVertexArray(slot.vao);
+      glGenBuffers(1, &slot.vbo);
+      glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
+      glEnableVertexAttribArray(0);
+      glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
+                            reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
+      glEnableVertexAttribArray(1);
+      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
+                            reinterpret_cast<void*>(offsetof(WarpVertex, tex)));
+      glBindVertexArray(0);
+    }
+    // Storage is reallocated only to grow, with 25 % headroom, so after the
+    // first keyframes of a walk uploads are copies into existing storage.
+    const auto bytes = static_cast<GLsizeiptr>(scratch_.size() * sizeof(WarpVertex));
+    glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
+    if (bytes > slot.vboBytes) {
+      slot.vboBytes = bytes + bytes / 4;
+      glBufferData(GL_ARRAY_BUFFER, slot.vboBytes, nullptr, GL_DYNAMIC_DRAW);
+    }
+    if (bytes > 0) glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, scratch_.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
 
-    glGenTextures(1, &src->tex);
-    glBindTexture(GL_TEXTURE_2D, src->tex);
+    if (!slot.tex) {
+      glGenTextures(1, &slot.tex);
+      glBindTexture(GL_TEXTURE_2D, slot.tex);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, slot.tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // Image row 0 (top) at t = 0, matching t = v / height above.
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kf.colour.width(), kf.colour.height(), 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, kf.colour.data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    if (slot.texWidth != kf.colour.width() || slot.texHeight != kf.colour.height()) {
+      slot.texWidth = kf.colour.width();
+      slot.texHeight = kf.colour.height();
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, slot.texWidth, slot.texHeight, 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, kf.colour.data());
+    } else {
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, slot.texWidth, slot.texHeight, GL_RGBA,
+                      GL_UNSIGNED_BYTE, kf.colour.data());
+    }
     HW_TRY(gl::checkGlError("Warper::upload"));
     if (stats) stats->uploadMs = sw.ms();
     return std::unique_ptr<WarpSource>(std::move(src));
@@ -421,7 +491,8 @@ class GlWarper final : public Warper {
   // Sky rectangles (behind everything) then the quads, into the bound target.
   void drawSource(const GlWarpSource& src, const Camera& target, float alpha) {
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, src.tex);
+    glBindTexture(GL_TEXTURE_2D, src.slot.tex);
+    // Product in double, rounded to float once (see WarpVertex for the error).
     const glm::mat4 vp(target.projectionMatrix(DepthMode::Fixed24, options_.infiniteFar) *
                        target.viewMatrix());
     const glm::mat4 view(target.viewMatrix());
@@ -432,7 +503,7 @@ class GlWarper final : public Warper {
     glUniform1f(uAlpha_, alpha);
     glDisable(GL_CULL_FACE);  // quads may face away from the new view
     glDisable(GL_BLEND);
-    glBindVertexArray(src.vao);
+    glBindVertexArray(src.slot.vao);
     if (src.skyRects > 0) {
       // Sky first, behind everything: no depth test or write.
       glDisable(GL_DEPTH_TEST);
@@ -455,6 +526,7 @@ class GlWarper final : public Warper {
   GLuint emptyVao_ = 0, query_ = 0;
   gl::Framebuffer pairFbo_;
   std::vector<WarpVertex> scratch_;
+  std::shared_ptr<SlotPool> pool_ = std::make_shared<SlotPool>();
   gl::Framebuffer fbo_;
 };
 
