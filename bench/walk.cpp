@@ -17,6 +17,7 @@
 #include "core/machine.h"
 #include "core/metrics.h"
 #include "core/timer.h"
+#include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 
 namespace hw::bench {
@@ -77,9 +78,30 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       schedule.explicitFrames.end());
   if (!opt.keyframeFrames.empty() && schedule.explicitFrames.empty())
     schedule.explicitFrames.push_back(frames - 1);  // only the two ends
-  keyframe::KeyframeCache cache(renderer, keyframe::MeshSpec{opt.mesh, opt.lod, opt.tileSize},
-                                [&](int i) { return path.cameraAt(i); });
+  // Keyframe acquisition: cache (memory bound), and with asyncKeyframes a
+  // worker that renders and meshes them ahead along the schedule. The worker
+  // is declared first so it outlives the cache and is joined on every return.
+  const keyframe::MeshSpec meshSpec{opt.mesh, opt.lod, opt.tileSize};
+  const bool asyncKf = opt.asyncKeyframes && !opt.keyframeSource;
+  std::unique_ptr<keyframe::AsyncKeyframes> kfWorker;
+  if (asyncKf) {
+    keyframe::AsyncKeyframeOptions aopt;
+    aopt.render = ropt;
+    aopt.mesh = meshSpec;
+    aopt.maxQueued = std::max(1, opt.keyframePrefetch) + 2;  // the bracket + those ahead
+    auto w = keyframe::AsyncKeyframes::create(scene, [&path](int i) { return path.cameraAt(i); },
+                                              aopt);
+    if (!w) return w.error();
+    kfWorker = std::move(*w);
+  }
+  keyframe::KeyframeCache cache(renderer, meshSpec, [&](int i) { return path.cameraAt(i); },
+                                keyframe::CacheOptions{opt.keyframeCacheBytes,
+                                                       std::max(0, opt.keyframePrefetch)});
+  cache.setSchedule(schedule);
   if (opt.keyframeSource) cache.setSource(opt.keyframeSource);
+  if (kfWorker) cache.setProducer(kfWorker.get());
+  double frameWaitMs = 0;  // this frame's wait for keyframes not ready
+  std::vector<double> frameMsAll, inBetweenFrameMs, stallMs;
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
   std::map<int, warp::WarpStats> uploadStats;
 
@@ -128,6 +150,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     auto kf = cache.get(k);
     if (!kf) return kf.error();
     *kfOut = *kf;
+    if (cache.lastWaitMs() > 0) {
+      frameWaitMs += cache.lastWaitMs();
+      stallMs.push_back(cache.lastWaitMs());
+    }
     if (!sources.count(k)) {
       warp::WarpStats ws;
       auto src = warper.upload((*kf)->keyframe, (*kf)->mesh, &ws);
@@ -157,6 +183,11 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       refMs = rs.drawMs + rs.readbackMs;
       referenceMs.push_back(refMs);
     }
+    // What a viewer waits for: keyframe acquisition (build or wait),
+    // upload, warp, compose; not the reference or the metrics.
+    Stopwatch frameSw;
+    frameWaitMs = 0;
+    if (asyncKf) HW_TRY(cache.prefetch(i));
     if (k0 == k1) {
       // Keyframe: the geometry frame itself is displayed.
       const keyframe::CachedKeyframe* kf = nullptr;
@@ -179,6 +210,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       frame.holesBefore.fill(0);
       frame.valid.fill(1);
       frame.holeFractionBefore = frame.holeFractionAfter = 0;
+      ms["frame"] = frameSw.ms();
       fj["holes_before_fallback"] = 0.0;
       fj["holes_after_fallback"] = 0.0;
       if (opt.reference) {
@@ -213,6 +245,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
             {"warp_a_draw", wa.drawMs},           {"warp_b_draw", wb.drawMs},
             {"readback", wa.readbackMs + wb.readbackMs},
             {"compose", composeT},                {"total", totalMs}};
+      ms["frame"] = frameSw.ms();
+      inBetweenFrameMs.push_back(ms["frame"].get<double>());
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
       holesBefore.push_back(frame.holeFractionBefore);
@@ -244,6 +278,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                              {"holes_before_fallback", frame.holeFractionBefore}});
       }
     }
+    ms["keyframe_wait"] = frameWaitMs;
+    frameMsAll.push_back(ms["frame"].get<double>());
     fj["reference_ms"] = opt.reference ? json(refMs) : json(nullptr);
     fj["ms"] = ms;
     if (writing && opt.saveFrames) {
@@ -302,6 +338,26 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["lod_build_ms"] = stats(lodBuildMs);
   summary["one_pixel_leaves_per_keyframe"] = stats(onePixelLeaves);
   summary["speedup_reference_over_in_between"] = stats(speedup);
+  // Frame-time stability (issue #8): wall time per frame as a viewer sees
+  // it, keyframe frames included, and the in-between frames alone.
+  auto ratio = [](const std::vector<double>& v) {
+    const double m = median(v);
+    return m > 0 ? finiteOrNull(percentile(v, 95) / m) : json(nullptr);
+  };
+  summary["keyframe_acquisition"] = opt.keyframeSource ? "source" : asyncKf ? "async" : "sync";
+  summary["async_keyframes"] = asyncKf;
+  summary["keyframe_prefetch"] = asyncKf ? json(opt.keyframePrefetch) : json(nullptr);
+  summary["keyframe_cache_mb"] = static_cast<double>(opt.keyframeCacheBytes) / (1 << 20);
+  summary["keyframe_cache_peak_mb"] = static_cast<double>(cache.peakBytes()) / (1 << 20);
+  summary["keyframe_cache_evictions"] = cache.evictions();
+  summary["frame_ms"] = stats(frameMsAll);
+  summary["frame_ms_p95_over_median"] = ratio(frameMsAll);
+  summary["in_between_frame_ms"] = stats(inBetweenFrameMs);
+  summary["in_between_frame_ms_p95_over_median"] = ratio(inBetweenFrameMs);
+  summary["keyframe_stalls"] = cache.stalls();
+  summary["keyframe_stall_ms"] = stats(stallMs);
+  summary["keyframe_stall_ms_total"] = cache.stallMs();
+  summary["keyframe_worker_busy_ms"] = kfWorker ? json(kfWorker->workerBusyMs()) : json(nullptr);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 

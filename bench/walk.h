@@ -4,6 +4,7 @@
 // backward-warped from its two bracketing keyframes and composed with the
 // previous frame (Zheng et al. 1999 §2); each frame measured against the
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -45,6 +46,15 @@ struct WalkOptions {
   std::vector<int> keyframeFrames;
   // Where keyframes come from (empty = rendered and meshed on the fly).
   keyframe::KeyframeCache::Source keyframeSource;
+  // Keyframe acquisition (issue #8, stable frame rate). Bound on the bytes of
+  // cached keyframes (colour + depth + mesh).
+  std::size_t keyframeCacheBytes = keyframe::CacheOptions{}.maxBytes;
+  // Render and mesh keyframes ahead of need on a worker thread with a second
+  // OSMesa context; the main thread only uploads them. Off = built on first
+  // use on the main thread (the reference behaviour). Ignored with a
+  // keyframeSource. Frames are bit-identical either way.
+  bool asyncKeyframes = false;
+  int keyframePrefetch = 2;  // async: keyframes past the current bracket built ahead
 };
 
 struct WalkResult {

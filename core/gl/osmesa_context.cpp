@@ -4,9 +4,16 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 #include "core/gl/context.h"
+
+// The entry-point table's glGetString (core/gl/gl_api.h, not included here:
+// its glcorearb.h would meet osmesa.h's gl.h).
+namespace hwgl {
+extern decltype(&::glGetString) glGetString;
+}
 
 namespace hw::gl {
 
@@ -59,6 +66,10 @@ Result<std::unique_ptr<Context>> createHeadlessContext() {
                          OSMESA_CONTEXT_MAJOR_VERSION, 4,
                          OSMESA_CONTEXT_MINOR_VERSION, 5,
                          0};
+  // One context per thread may be created concurrently with GL calls on
+  // another (the keyframe worker): the creation itself is serialised.
+  static std::mutex creationMutex;
+  std::lock_guard lock(creationMutex);
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
   if (!ctx)
     return makeError(
@@ -67,7 +78,14 @@ Result<std::unique_ptr<Context>> createHeadlessContext() {
         "unavailable driver)");
   auto context = std::make_unique<OsMesaContext>(ctx);
   if (!context->init()) return makeError("cannot make the OSMesa context current");
-  HW_TRY(loadGlFunctions(&osmesaProc));
+  // OSMesaGetProcAddress hands out Mesa's dispatch stubs, which are the same
+  // for every context and call into the context current on the calling
+  // thread (checked: equal pointers from two contexts on two threads). So a
+  // table already filled from OSMesa serves a second context as it is, and is
+  // not rewritten while another thread may be calling through it.
+  if (hwgl::glGetString == nullptr ||
+      reinterpret_cast<void*>(hwgl::glGetString) != osmesaProc("glGetString"))
+    HW_TRY(loadGlFunctions(&osmesaProc));
   return std::unique_ptr<Context>(std::move(context));
 }
 

@@ -1,0 +1,89 @@
+#pragma once
+// Keyframes rendered and meshed ahead of need on a worker thread with its own
+// OSMesa context, GeometryRenderer and LodBuilder, so an in-between frame does
+// not wait for one (issue #8 "stable frame rate"; Rail-Track's prefetch along
+// the path). The main thread only uploads what the worker hands over: no GL
+// object crosses contexts. Same build code as KeyframeCache's synchronous path
+// (buildCachedKeyframe), hence bit-identical keyframes.
+//
+// Mesa note (measured on Mesa 22.3 llvmpipe): every OSMesa context of a process
+// shares one pipe screen, so LP_NUM_THREADS is read once, at the first context,
+// and the worker's context adds no rasteriser threads; both contexts queue
+// their rasterisation on the same threads, in order.
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/result.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_cache.h"
+#include "scenes/scene.h"
+
+namespace hw::keyframe {
+
+struct AsyncKeyframeOptions {
+  RenderOptions render;  // as the main thread's renderer, for identical keyframes
+  MeshSpec mesh;
+  // Keyframes requested, being built or built and not yet taken; request()
+  // refuses more. ≥ 1.
+  int maxQueued = 3;
+};
+
+class AsyncKeyframes final : public KeyframeProducer {
+ public:
+  // Starts the worker and waits until its context and renderer are up, so a
+  // context or scene-upload failure comes back here. `scene` is only read
+  // during create(); `cameraOf` is called on the worker thread (it must be
+  // safe to call concurrently with the main thread, e.g. CameraPath::cameraAt)
+  // and what it refers to must outlive this object. The main thread's GL
+  // entry-point table must come from OSMesa (not a GLFW window).
+  static Result<std::unique_ptr<AsyncKeyframes>> create(const scenes::Scene& scene,
+                                                        std::function<Camera(int)> cameraOf,
+                                                        const AsyncKeyframeOptions& options);
+  // Drops the queue, lets the keyframe in progress finish, joins the worker.
+  ~AsyncKeyframes() override;
+  AsyncKeyframes(const AsyncKeyframes&) = delete;
+  AsyncKeyframes& operator=(const AsyncKeyframes&) = delete;
+
+  bool request(int frame) override;
+  bool ready(int frame, std::size_t* bytes = nullptr) const override;
+  Status take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) override;
+  void recycle(std::unique_ptr<CachedKeyframe> entry) override;
+
+  int built() const;         // keyframes the worker finished
+  double workerBusyMs() const;  // time it spent building them
+  const std::string& glRenderer() const { return glRenderer_; }
+
+ private:
+  AsyncKeyframes() = default;
+  void run(const scenes::Scene* scene, Status* initStatus);
+  int outstandingLocked() const;
+  bool knownLocked(int frame) const;
+
+  std::function<Camera(int)> cameraOf_;
+  AsyncKeyframeOptions options_;
+  std::string glRenderer_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable workCv_;  // worker: a job or stop
+  std::condition_variable doneCv_;  // main: a keyframe finished (or init done)
+  std::deque<int> queue_;           // requested, not started, in order
+  int building_ = -1;
+  std::map<int, std::unique_ptr<CachedKeyframe>> done_;
+  std::map<int, Error> failed_;
+  std::vector<std::unique_ptr<CachedKeyframe>> free_;  // recycled buffers
+  bool stop_ = false, initDone_ = false, workerExited_ = false;
+  int built_ = 0;
+  double busyMs_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace hw::keyframe
