@@ -258,6 +258,17 @@ int main(int argc, char** argv) {
                    "With --async-keyframes: keyframes past the current pair built ahead")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
+  std::size_t keyframeFlushTriangles = 8192;
+  int keyframeWorkerNice = 0;
+  walk->add_option("--keyframe-flush-triangles", keyframeFlushTriangles,
+                   "With --async-keyframes: the worker flushes its keyframe render after about "
+                   "this many triangles, so frames on the main context wait behind one piece of "
+                   "it on llvmpipe's shared rasteriser threads (0 = one flush)")
+      ->capture_default_str();
+  walk->add_option("--keyframe-worker-nice", keyframeWorkerNice,
+                   "With --async-keyframes: nice increment of the worker thread (0-19)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
 
   // render
   Common renderC;
@@ -645,6 +656,8 @@ int main(int argc, char** argv) {
   wo.asyncKeyframes = asyncKeyframes;
   wo.keyframeCacheBytes = static_cast<std::size_t>(keyframeCacheMb * 1024 * 1024);
   wo.keyframePrefetch = keyframePrefetch;
+  wo.keyframeFlushTriangles = keyframeFlushTriangles;
+  wo.keyframeWorkerNice = keyframeWorkerNice;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();

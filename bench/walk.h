@@ -55,6 +55,11 @@ struct WalkOptions {
   // keyframeSource. Frames are bit-identical either way.
   bool asyncKeyframes = false;
   int keyframePrefetch = 2;  // async: keyframes past the current bracket built ahead
+  // async: the worker's renderer flushes after about this many triangles, so
+  // the main thread's warp waits behind at most one piece of a keyframe on
+  // llvmpipe's rasteriser threads, which both contexts share (0 = no flush).
+  std::size_t keyframeFlushTriangles = 8192;
+  int keyframeWorkerNice = 0;  // async: nice increment of the worker thread (Linux)
 };
 
 struct WalkResult {

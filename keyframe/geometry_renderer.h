@@ -17,6 +17,11 @@ namespace hw::keyframe {
 struct RenderOptions {
   DepthMode depthMode = kDefaultDepthMode;  // fixed24 = the paper's 24-bit z-buffer
   bool frustumCulling = true;
+  // glFlush after about this many triangles (0 = one flush at the end). The
+  // image is the same; llvmpipe then rasterises the frame in pieces, so a
+  // second context (the keyframe worker) holds its shared rasteriser threads
+  // for one piece at a time instead of a whole frame.
+  std::size_t flushEveryTriangles = 0;
 };
 
 struct RenderStats {

@@ -1,5 +1,9 @@
 #include "keyframe/gl/async_keyframes.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <utility>
 
@@ -38,6 +42,8 @@ AsyncKeyframes::~AsyncKeyframes() {
 }
 
 void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
+  if (options_.workerNice != 0)  // best effort: a refused change only costs smoothness
+    (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), options_.workerNice);
   std::unique_ptr<gl::Context> context;
   std::unique_ptr<GeometryRenderer> renderer;
   LodBuilder builder;

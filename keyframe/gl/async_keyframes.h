@@ -35,6 +35,10 @@ struct AsyncKeyframeOptions {
   // Keyframes requested, being built or built and not yet taken; request()
   // refuses more. ≥ 1.
   int maxQueued = 3;
+  // Added to the worker thread's nice value (Linux, per thread; 0 = as the
+  // main thread). Only its own CPU work (binning, meshing) is lowered: the
+  // rasteriser threads are Mesa's and shared.
+  int workerNice = 0;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {

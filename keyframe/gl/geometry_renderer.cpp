@@ -241,6 +241,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
     glDisable(GL_BLEND);
     glFrontFace(GL_CCW);
     int bound = -1;
+    std::size_t sinceFlush = 0;
     for (const DrawItem& d : items_) {
       if (options_.frustumCulling && aabbOutside(planes, d.lo, d.hi)) continue;
       if (d.material != bound) {
@@ -264,6 +265,11 @@ class GlGeometryRenderer final : public GeometryRenderer {
                      reinterpret_cast<void*>(d.firstIndex * sizeof(std::uint32_t)));
       ++stats.meshesDrawn;
       stats.trianglesDrawn += d.indexCount / 3;
+      sinceFlush += d.indexCount / 3;
+      if (options_.flushEveryTriangles > 0 && sinceFlush >= options_.flushEveryTriangles) {
+        glFlush();
+        sinceFlush = 0;
+      }
     }
     glBindVertexArray(0);
     glFinish();
