@@ -265,6 +265,13 @@ int main(int argc, char** argv) {
                    "this many triangles, so frames on the main context wait behind one piece of "
                    "it on llvmpipe's shared rasteriser threads (0 = one flush)")
       ->capture_default_str();
+  int keyframeStepsPerFrame = 2;
+  walk->add_option("--keyframe-steps-per-frame", keyframeStepsPerFrame,
+                   "With --async-keyframes: pace the worker to this many steps (a flushed piece "
+                   "of the render, the readback, the mesh build) per frame, spreading a "
+                   "keyframe's cost over the frames; lifted while a frame waits (0 = unpaced)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
   walk->add_option("--keyframe-worker-nice", keyframeWorkerNice,
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
       ->check(CLI::Range(0, 19))
@@ -658,6 +665,7 @@ int main(int argc, char** argv) {
   wo.keyframePrefetch = keyframePrefetch;
   wo.keyframeFlushTriangles = keyframeFlushTriangles;
   wo.keyframeWorkerNice = keyframeWorkerNice;
+  wo.keyframeStepsPerFrame = keyframeStepsPerFrame;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();

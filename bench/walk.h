@@ -60,6 +60,9 @@ struct WalkOptions {
   // llvmpipe's rasteriser threads, which both contexts share (0 = no flush).
   std::size_t keyframeFlushTriangles = 8192;
   int keyframeWorkerNice = 0;  // async: nice increment of the worker thread (Linux)
+  // async: worker steps (render pieces, readback, mesh build) per frame;
+  // spreads a keyframe's cost over the frames (0 = unpaced).
+  int keyframeStepsPerFrame = 2;
 };
 
 struct WalkResult {

@@ -5,6 +5,7 @@
 // for the scene, per-mesh frustum culling, meshes sorted by material, no
 // per-frame allocation. Needs a current GL context (core/gl/context.h).
 #include <cstddef>
+#include <functional>
 #include <memory>
 
 #include "core/camera.h"
@@ -22,6 +23,8 @@ struct RenderOptions {
   // second context (the keyframe worker) holds its shared rasteriser threads
   // for one piece at a time instead of a whole frame.
   std::size_t flushEveryTriangles = 0;
+  // Called after each of those flushes (e.g. to pace a background renderer).
+  std::function<void()> afterFlush;
 };
 
 struct RenderStats {

@@ -58,10 +58,12 @@ std::size_t cachedKeyframeBytes(const CachedKeyframe& e) {
 }
 
 Status buildCachedKeyframe(GeometryRenderer& renderer, LodBuilder& builder, const MeshSpec& spec,
-                           const Camera& camera, int frame, CachedKeyframe& out) {
+                           const Camera& camera, int frame, CachedKeyframe& out,
+                           const std::function<void()>& betweenSteps) {
   out.frame = frame;
   HW_TRY(renderer.renderKeyframe(camera, out.keyframe, &out.render));
   out.renderMs = out.render.drawMs + out.render.readbackMs;
+  if (betweenSteps) betweenSteps();
   switch (spec.method) {
     case MeshMethod::Lod:
       HW_TRY(builder.build(out.keyframe, spec.lod, &out.mesh));

@@ -62,8 +62,10 @@ std::size_t cachedKeyframeBytes(const CachedKeyframe& e);
 // Renders `camera` with `renderer` and meshes it per `spec` into `out`
 // (buffers reused when sizes match). The one build path for the synchronous
 // cache and the keyframe worker, so both give bit-identical keyframes.
+// `betweenSteps`, if set, is called between the render and the mesh build.
 Status buildCachedKeyframe(GeometryRenderer& renderer, LodBuilder& builder, const MeshSpec& spec,
-                           const Camera& camera, int frame, CachedKeyframe& out);
+                           const Camera& camera, int frame, CachedKeyframe& out,
+                           const std::function<void()>& betweenSteps = {});
 
 // Builds keyframes somewhere else (a worker thread, keyframe/gl/async_keyframes.h).
 // All calls come from the cache's (main) thread.

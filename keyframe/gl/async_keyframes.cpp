@@ -41,6 +41,25 @@ AsyncKeyframes::~AsyncKeyframes() {
   if (thread_.joinable()) thread_.join();
 }
 
+void AsyncKeyframes::pace() {
+  if (options_.stepsPerFrame <= 0) return;
+  std::unique_lock lock(mutex_);
+  const long long per = options_.stepsPerFrame;
+  // Nothing banked beyond the current frame's budget while idle, so no
+  // burst follows.
+  steps_ = std::max(steps_, (ticks_ - 1) * per);
+  workCv_.wait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
+  ++steps_;
+}
+
+void AsyncKeyframes::frameTick() {
+  {
+    std::lock_guard lock(mutex_);
+    ++ticks_;
+  }
+  workCv_.notify_all();
+}
+
 void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
   if (options_.workerNice != 0)  // best effort: a refused change only costs smoothness
     (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), options_.workerNice);
@@ -54,7 +73,9 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
       s = Error{"keyframe worker: " + ctx.error().message};
     } else {
       context = std::move(*ctx);
-      auto r = GeometryRenderer::create(*scene, options_.render);
+      RenderOptions ro = options_.render;
+      if (options_.stepsPerFrame > 0 && ro.flushEveryTriangles > 0) ro.afterFlush = [this] { pace(); };
+      auto r = GeometryRenderer::create(*scene, ro);
       if (!r)
         s = Error{"keyframe worker: " + r.error().message};
       else
@@ -84,9 +105,10 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
       e = std::make_unique<CachedKeyframe>();
     }
     lock.unlock();
+    pace();
     Stopwatch sw;
     const Status s = buildCachedKeyframe(*renderer, builder, options_.mesh, cameraOf_(frame),
-                                         frame, *e);
+                                         frame, *e, [this] { pace(); });
     const double ms = sw.ms();
     lock.lock();
     building_ = -1;
@@ -150,7 +172,10 @@ Status AsyncKeyframes::take(int frame, std::unique_ptr<CachedKeyframe>* out, dou
   };
   if (!finished()) {
     waited = true;
+    ++waiting_;  // lifts pacing
+    workCv_.notify_all();
     doneCv_.wait(lock, finished);
+    --waiting_;
   }
   if (waitedMs) *waitedMs = waited ? sw.ms() : 0.0;
   if (auto f = failed_.find(frame); f != failed_.end()) {

@@ -39,6 +39,12 @@ struct AsyncKeyframeOptions {
   // main thread). Only its own CPU work (binning, meshing) is lowered: the
   // rasteriser threads are Mesa's and shared.
   int workerNice = 0;
+  // Pacing: the worker takes at most this many steps (a piece of the render,
+  // see RenderOptions::flushEveryTriangles; the readback; the mesh build) per
+  // frameTick(), so its cost is spread over the frames instead of landing on
+  // one or two. Lifted while the main thread waits for a keyframe. 0 = as
+  // fast as it can.
+  int stepsPerFrame = 0;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {
@@ -62,6 +68,9 @@ class AsyncKeyframes final : public KeyframeProducer {
   Status take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) override;
   void recycle(std::unique_ptr<CachedKeyframe> entry) override;
 
+  // The main thread started a frame (pacing; see stepsPerFrame).
+  void frameTick();
+
   int built() const;         // keyframes the worker finished
   double workerBusyMs() const;  // time it spent building them
   const std::string& glRenderer() const { return glRenderer_; }
@@ -70,6 +79,7 @@ class AsyncKeyframes final : public KeyframeProducer {
   AsyncKeyframes() = default;
   void run(const scenes::Scene* scene, Status* initStatus);
   int outstandingLocked() const;
+  void pace();  // worker: wait for a step of the budget
   bool knownLocked(int frame) const;
 
   std::function<Camera(int)> cameraOf_;
@@ -85,6 +95,8 @@ class AsyncKeyframes final : public KeyframeProducer {
   std::map<int, Error> failed_;
   std::vector<std::unique_ptr<CachedKeyframe>> free_;  // recycled buffers
   bool stop_ = false, initDone_ = false, workerExited_ = false;
+  int waiting_ = 0;                 // main thread blocked in take()
+  long long ticks_ = 0, steps_ = 0;  // pacing
   int built_ = 0;
   double busyMs_ = 0;
   std::thread thread_;

@@ -269,6 +269,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
       if (options_.flushEveryTriangles > 0 && sinceFlush >= options_.flushEveryTriangles) {
         glFlush();
         sinceFlush = 0;
+        if (options_.afterFlush) options_.afterFlush();
       }
     }
     glBindVertexArray(0);

@@ -4,11 +4,13 @@
 // errors without hanging.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 
 #include "bench/walk.h"
 #include "gl_fixture.h"
@@ -209,6 +211,31 @@ TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
   ASSERT_TRUE((*w)->take(35, &e, &waited).ok());  // never requested: queued first
   EXPECT_EQ(e->frame, 35);
   EXPECT_GT(waited, 0.0);
+}
+
+TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
+  const Indoor in = smallIndoor(64, 20, 5);
+  keyframe::AsyncKeyframeOptions ao;
+  ao.stepsPerFrame = 1;
+  ao.render.flushEveryTriangles = 1000;  // many steps per keyframe
+  auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  ASSERT_TRUE((*w)->request(0));
+  ASSERT_TRUE((*w)->request(5));
+  // One tick allows one step: not a whole keyframe.
+  (*w)->frameTick();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_FALSE((*w)->ready(0));
+  // Waiting lifts the pacing (no deadlock), for the keyframe waited for.
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waited = 0;
+  ASSERT_TRUE((*w)->take(0, &e, &waited).ok());
+  EXPECT_GT(waited, 0.0);
+  for (int t = 0; t < 1000 && !(*w)->ready(5); ++t) {
+    (*w)->frameTick();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_TRUE((*w)->ready(5));  // ticks alone get it done
 }
 
 TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
