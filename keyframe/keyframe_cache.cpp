@@ -66,7 +66,25 @@ Status buildCachedKeyframe(GeometryRenderer& renderer, LodBuilder& builder, cons
   if (betweenSteps) betweenSteps();
   switch (spec.method) {
     case MeshMethod::Lod:
-      HW_TRY(builder.build(out.keyframe, spec.lod, &out.mesh));
+      if (!betweenSteps) {
+        HW_TRY(builder.build(out.keyframe, spec.lod, &out.mesh));
+      } else {
+        // build()'s three steps with a pause point between them; the same
+        // calls, so the same quads.
+        Stopwatch sw;
+        out.mesh.quads.clear();
+        out.mesh.stats = QuadMeshStats{};
+        HW_TRY(builder.prepare(out.keyframe.zPrime.view(), out.keyframe.covered.view(),
+                               out.keyframe.camera, spec.lod));
+        const double deltaMs = sw.ms();
+        betweenSteps();
+        const double subdivideMs = builder.subdivide();
+        betweenSteps();
+        const double cornersMs = builder.recoverCorners(&out.mesh);
+        out.mesh.stats.deltaMs = deltaMs;
+        out.mesh.stats.subdivideMs = subdivideMs;
+        out.mesh.stats.cornersMs = cornersMs;
+      }
       break;
     case MeshMethod::UniformTiles: {
       auto m = buildUniformTiles(out.keyframe, spec.tileSize, &builder);
