@@ -53,9 +53,7 @@ void* osmesaProc(const char* name) {
   return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
 }
 
-}  // namespace
-
-Result<std::unique_ptr<Context>> createHeadlessContext() {
+Result<std::unique_ptr<Context>> createHeadless(bool second) {
   const char* fail = std::getenv("HW_GL_FAIL");
   if (fail && std::strcmp(fail, "1") == 0)
     return makeError("cannot create an OSMesa OpenGL context: HW_GL_FAIL=1 is set");
@@ -83,10 +81,23 @@ Result<std::unique_ptr<Context>> createHeadlessContext() {
   // thread (checked: equal pointers from two contexts on two threads). So a
   // table already filled from OSMesa serves a second context as it is, and is
   // not rewritten while another thread may be calling through it.
-  if (hwgl::glGetString == nullptr ||
-      reinterpret_cast<void*>(hwgl::glGetString) != osmesaProc("glGetString"))
-    HW_TRY(loadGlFunctions(&osmesaProc));
+  const bool tableFromOsMesa =
+      reinterpret_cast<void*>(hwgl::glGetString) == osmesaProc("glGetString");
+  if (second && !tableFromOsMesa) {
+    // Refilling it would pull the table from under the thread that uses it.
+    return makeError(
+        "cannot create a second OSMesa context for a worker thread: the GL entry points were "
+        "loaded from another kind of context (a GLFW window); create the first context with "
+        "createHeadlessContext()");
+  }
+  if (!tableFromOsMesa) HW_TRY(loadGlFunctions(&osmesaProc));
   return std::unique_ptr<Context>(std::move(context));
 }
+
+}  // namespace
+
+Result<std::unique_ptr<Context>> createHeadlessContext() { return createHeadless(false); }
+
+Result<std::unique_ptr<Context>> createSecondHeadlessContext() { return createHeadless(true); }
 
 }  // namespace hw::gl

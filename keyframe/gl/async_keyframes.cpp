@@ -68,7 +68,7 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
   LodBuilder builder;
   {
     Status s;
-    auto ctx = gl::createHeadlessContext();  // current on this thread from here on
+    auto ctx = gl::createSecondHeadlessContext();  // current on this thread from here on
     if (!ctx) {
       s = Error{"keyframe worker: " + ctx.error().message};
     } else {
