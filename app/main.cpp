@@ -266,11 +266,24 @@ int main(int argc, char** argv) {
                    "it on llvmpipe's shared rasteriser threads (0 = one flush)")
       ->capture_default_str();
   int keyframeStepsPerFrame = 2;
+  std::string keyframePacing = "time";
+  double keyframeBudgetScale = 1.5;
+  walk->add_option("--keyframe-pacing", keyframePacing,
+                   "With --async-keyframes: how the worker spreads a keyframe over the frames "
+                   "before its need: time (each frame allows budget-scale x last build ms / frames "
+                   "per keyframe of worker time), steps (--keyframe-steps-per-frame steps per "
+                   "frame) or none (as fast as it can); lifted while a frame waits")
+      ->check(CLI::IsMember({"time", "steps", "none"}))
+      ->capture_default_str();
+  walk->add_option("--keyframe-budget-scale", keyframeBudgetScale,
+                   "With --keyframe-pacing time: the worker's time per frame as a multiple of its "
+                   "even share (> 1 lets it get ahead)")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
   walk->add_option("--keyframe-steps-per-frame", keyframeStepsPerFrame,
-                   "With --async-keyframes: pace the worker to this many steps (a flushed piece "
-                   "of the render, the readback, the mesh build) per frame, spreading a "
-                   "keyframe's cost over the frames; lifted while a frame waits (0 = unpaced)")
-      ->check(CLI::Range(0, 1000))
+                   "With --keyframe-pacing steps: worker steps (a flushed piece of the render, the "
+                   "readback, a mesh-build step) per frame")
+      ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   walk->add_option("--keyframe-worker-nice", keyframeWorkerNice,
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
@@ -666,6 +679,10 @@ int main(int argc, char** argv) {
   wo.keyframeFlushTriangles = keyframeFlushTriangles;
   wo.keyframeWorkerNice = keyframeWorkerNice;
   wo.keyframeStepsPerFrame = keyframeStepsPerFrame;
+  wo.keyframePacing = keyframePacing == "time"    ? bench::WalkOptions::KeyframePacing::Time
+                     : keyframePacing == "steps" ? bench::WalkOptions::KeyframePacing::Steps
+                                                 : bench::WalkOptions::KeyframePacing::None;
+  wo.keyframeBudgetScale = keyframeBudgetScale;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();

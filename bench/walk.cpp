@@ -91,7 +91,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     aopt.maxQueued = std::max(1, opt.keyframePrefetch) + 2;  // the bracket + those ahead
     aopt.render.flushEveryTriangles = opt.keyframeFlushTriangles;
     aopt.workerNice = opt.keyframeWorkerNice;
-    aopt.stepsPerFrame = opt.keyframeStepsPerFrame;
+    if (opt.keyframePacing == WalkOptions::KeyframePacing::Steps)
+      aopt.stepsPerFrame = opt.keyframeStepsPerFrame;
+    if (opt.keyframePacing == WalkOptions::KeyframePacing::Time) {
+      const std::size_t nk = schedule.keyframes().size();
+      aopt.framesPerKeyframe = nk > 1 ? static_cast<double>(frames - 1) / static_cast<double>(nk - 1) : 1.0;
+      aopt.budgetScale = opt.keyframeBudgetScale;
+    }
     auto w = keyframe::AsyncKeyframes::create(scene, [&path](int i) { return path.cameraAt(i); },
                                               aopt);
     if (!w) return w.error();
@@ -390,7 +396,16 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["keyframe_stall_ms_total"] = stallTotal;
   summary["keyframe_flush_triangles"] = asyncKf ? json(opt.keyframeFlushTriangles) : json(nullptr);
   summary["keyframe_worker_nice"] = asyncKf ? json(opt.keyframeWorkerNice) : json(nullptr);
-  summary["keyframe_steps_per_frame"] = asyncKf ? json(opt.keyframeStepsPerFrame) : json(nullptr);
+  const char* pacingName = opt.keyframePacing == WalkOptions::KeyframePacing::Time    ? "time"
+                           : opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? "steps"
+                                                                                      : "none";
+  summary["keyframe_pacing"] = asyncKf ? json(pacingName) : json(nullptr);
+  summary["keyframe_budget_scale"] =
+      asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Time ? json(opt.keyframeBudgetScale)
+                                                                         : json(nullptr);
+  summary["keyframe_steps_per_frame"] =
+      asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? json(opt.keyframeStepsPerFrame)
+                                                                          : json(nullptr);
   summary["keyframe_worker_busy_ms"] = kfWorker ? json(kfWorker->workerBusyMs()) : json(nullptr);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;

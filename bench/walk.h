@@ -60,8 +60,15 @@ struct WalkOptions {
   // llvmpipe's rasteriser threads, which both contexts share (0 = no flush).
   std::size_t keyframeFlushTriangles = 8192;
   int keyframeWorkerNice = 0;  // async: nice increment of the worker thread (Linux)
-  // async: worker steps (render pieces, readback, mesh build) per frame;
-  // spreads a keyframe's cost over the frames (0 = unpaced).
+  // async pacing of the worker, so a keyframe's cost is spread over the
+  // frames before its need instead of landing on one or two:
+  //  Time: each frame grants budgetScale × (last build's ms) / (frames per
+  //        keyframe) of worker time (AsyncKeyframeOptions::framesPerKeyframe);
+  //  Steps: keyframeStepsPerFrame steps (render pieces, readback, mesh build
+  //        steps) per frame;  None: as fast as it can.
+  enum class KeyframePacing { None, Steps, Time };
+  KeyframePacing keyframePacing = KeyframePacing::Time;
+  double keyframeBudgetScale = 1.5;
   int keyframeStepsPerFrame = 2;
 };
 

@@ -9,6 +9,7 @@
 
 #include "core/check.h"
 #include "core/gl/context.h"
+#include "core/gl/gl_api.h"
 #include "core/timer.h"
 #include "keyframe/lod_builder.h"
 
@@ -41,7 +42,35 @@ AsyncKeyframes::~AsyncKeyframes() {
   if (thread_.joinable()) thread_.join();
 }
 
+void AsyncKeyframes::endStep() {
+  const double now = clock_.ms();
+  debtMs_ += now - stepStartMs_;
+  buildStepMs_ += now - stepStartMs_;
+  stepStartMs_ = now;
+}
+
 void AsyncKeyframes::pace() {
+  if (options_.framesPerKeyframe > 0) {
+    endStep();
+    std::unique_lock lock(mutex_);
+    const double budget =
+        std::max(0.5, options_.budgetScale * lastBuildMs_ / options_.framesPerKeyframe);
+    auto settle = [&] {  // each new frame pays back one budget
+      if (ticks_ > paidTicks_) {
+        debtMs_ = std::max(0.0, debtMs_ - budget * static_cast<double>(ticks_ - paidTicks_));
+        paidTicks_ = ticks_;
+      }
+      if (stop_ || waiting_ > 0) {
+        debtMs_ = 0;  // unpaced while waited for: nothing to pay back
+        return true;
+      }
+      return debtMs_ < budget;
+    };
+    workCv_.wait(lock, settle);
+    stepStartMs_ = clock_.ms();
+    return;
+  }
+  endStep();
   if (options_.stepsPerFrame <= 0) return;
   std::unique_lock lock(mutex_);
   const long long per = options_.stepsPerFrame;
@@ -50,6 +79,7 @@ void AsyncKeyframes::pace() {
   steps_ = std::max(steps_, (ticks_ - 1) * per);
   workCv_.wait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
   ++steps_;
+  stepStartMs_ = clock_.ms();
 }
 
 void AsyncKeyframes::frameTick() {
@@ -74,7 +104,14 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
     } else {
       context = std::move(*ctx);
       RenderOptions ro = options_.render;
-      if (options_.stepsPerFrame > 0 && ro.flushEveryTriangles > 0) ro.afterFlush = [this] { pace(); };
+      if (options_.framesPerKeyframe > 0 && ro.flushEveryTriangles > 0) {
+        ro.afterFlush = [this] {
+          glFinish();  // the piece's rasterisation is part of the step's time
+          pace();
+        };
+      } else if (options_.stepsPerFrame > 0 && ro.flushEveryTriangles > 0) {
+        ro.afterFlush = [this] { pace(); };
+      }
       auto r = GeometryRenderer::create(*scene, ro);
       if (!r)
         s = Error{"keyframe worker: " + r.error().message};
@@ -105,14 +142,16 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
       e = std::make_unique<CachedKeyframe>();
     }
     lock.unlock();
+    buildStepMs_ = 0;
+    stepStartMs_ = clock_.ms();  // idle time before is not the build's
     pace();
-    Stopwatch sw;
     const Status s = buildCachedKeyframe(*renderer, builder, options_.mesh, cameraOf_(frame),
                                          frame, *e, [this] { pace(); });
-    const double ms = sw.ms();
+    endStep();
+    lastBuildMs_ = buildStepMs_;
     lock.lock();
     building_ = -1;
-    busyMs_ += ms;
+    busyMs_ += buildStepMs_;
     if (s.ok()) {
       ++built_;
       done_[frame] = std::move(e);

@@ -23,6 +23,7 @@
 
 #include "core/camera.h"
 #include "core/result.h"
+#include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 #include "scenes/scene.h"
@@ -45,6 +46,14 @@ struct AsyncKeyframeOptions {
   // one or two. Lifted while the main thread waits for a keyframe. 0 = as
   // fast as it can.
   int stepsPerFrame = 0;
+  // Time pacing instead (when > 0): the worker's steps may take, per
+  // frameTick(), budgetScale × (its last keyframe's build time) /
+  // framesPerKeyframe ms of wall time, each render piece finished (glFinish)
+  // so its rasterisation counts; a step that runs over is paid back by
+  // waiting the next frames. Spreads a keyframe evenly over the frames that
+  // precede its need. Lifted while the main thread waits.
+  double framesPerKeyframe = 0;
+  double budgetScale = 1.5;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {
@@ -72,14 +81,15 @@ class AsyncKeyframes final : public KeyframeProducer {
   void frameTick();
 
   int built() const;         // keyframes the worker finished
-  double workerBusyMs() const;  // time it spent building them
+  double workerBusyMs() const;  // time it spent building them (pacing waits excluded)
   const std::string& glRenderer() const { return glRenderer_; }
 
  private:
   AsyncKeyframes() = default;
   void run(const scenes::Scene* scene, Status* initStatus);
   int outstandingLocked() const;
-  void pace();  // worker: wait for a step of the budget
+  void pace();     // worker: wait for a step of the budget
+  void endStep();  // worker: account the step that just ended
   bool knownLocked(int frame) const;
 
   std::function<Camera(int)> cameraOf_;
@@ -97,6 +107,11 @@ class AsyncKeyframes final : public KeyframeProducer {
   bool stop_ = false, initDone_ = false, workerExited_ = false;
   int waiting_ = 0;                 // main thread blocked in take()
   long long ticks_ = 0, steps_ = 0;  // pacing
+  // Time pacing (worker thread only, except ticks_): ms of steps run in the
+  // current frame window minus budgets granted, and the last build's cost.
+  double debtMs_ = 0, lastBuildMs_ = 0, stepStartMs_ = 0, buildStepMs_ = 0;
+  long long paidTicks_ = 0;
+  Stopwatch clock_;
   int built_ = 0;
   double busyMs_ = 0;
   std::thread thread_;

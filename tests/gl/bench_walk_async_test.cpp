@@ -215,27 +215,34 @@ TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
 
 TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
   const Indoor in = smallIndoor(64, 20, 5);
-  keyframe::AsyncKeyframeOptions ao;
-  ao.stepsPerFrame = 1;
-  ao.render.flushEveryTriangles = 1000;  // many steps per keyframe
-  auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
-  ASSERT_TRUE(w.ok()) << w.error().message;
-  ASSERT_TRUE((*w)->request(0));
-  ASSERT_TRUE((*w)->request(5));
-  // One tick allows one step: not a whole keyframe.
-  (*w)->frameTick();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  EXPECT_FALSE((*w)->ready(0));
-  // Waiting lifts the pacing (no deadlock), for the keyframe waited for.
-  std::unique_ptr<keyframe::CachedKeyframe> e;
-  double waited = 0;
-  ASSERT_TRUE((*w)->take(0, &e, &waited).ok());
-  EXPECT_GT(waited, 0.0);
-  for (int t = 0; t < 1000 && !(*w)->ready(5); ++t) {
+  for (int mode = 0; mode < 2; ++mode) {
+    SCOPED_TRACE(mode == 0 ? "steps pacing" : "time pacing");
+    keyframe::AsyncKeyframeOptions ao;
+    if (mode == 0) {
+      ao.stepsPerFrame = 1;
+    } else {
+      ao.framesPerKeyframe = 1000;  // a tiny budget per frame
+      ao.budgetScale = 1;
+    }
+    ao.render.flushEveryTriangles = 1000;  // many steps per keyframe
+    auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    // Waiting lifts the pacing (no deadlock), for the keyframe waited for.
+    std::unique_ptr<keyframe::CachedKeyframe> e;
+    double waited = 0;
+    ASSERT_TRUE((*w)->take(0, &e, &waited).ok());
+    EXPECT_GT(waited, 0.0);
+    ASSERT_TRUE((*w)->request(5));
+    // One frame's budget is not a whole keyframe.
     (*w)->frameTick();
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_FALSE((*w)->ready(5));
+    for (int t = 0; t < 20000 && !(*w)->ready(5); ++t) {
+      (*w)->frameTick();
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    EXPECT_TRUE((*w)->ready(5));  // ticks alone get it done
   }
-  EXPECT_TRUE((*w)->ready(5));  // ticks alone get it done
 }
 
 TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
