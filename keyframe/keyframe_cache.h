@@ -128,8 +128,8 @@ class KeyframeCache {
   std::size_t evictions() const { return evictions_; }
   std::size_t entries() const { return entries_.size(); }
   bool contains(int frame) const;
-  int stalls() const { return stalls_; }           // get()s that waited for the producer
-  double stallMs() const { return stallMs_; }      // total time they waited
+  int stalls() const { return stalls_; }             // get()s that waited for the producer
+  double stallMs() const { return stallMs_; }        // total time they waited
   double lastWaitMs() const { return lastWaitMs_; }  // of the last get() (0 if none)
   const CacheOptions& options() const { return options_; }
 

@@ -15,9 +15,9 @@
 
 namespace hw::keyframe {
 
-Result<std::unique_ptr<AsyncKeyframes>> AsyncKeyframes::create(const scenes::Scene& scene,
-                                                               std::function<Camera(int)> cameraOf,
-                                                               const AsyncKeyframeOptions& options) {
+Result<std::unique_ptr<AsyncKeyframes>> AsyncKeyframes::create(
+    const scenes::Scene& scene, std::function<Camera(int)> cameraOf,
+    const AsyncKeyframeOptions& options) {
   HW_CHECK_GE(options.maxQueued, 1);
   std::unique_ptr<AsyncKeyframes> a(new AsyncKeyframes());
   a->cameraOf_ = std::move(cameraOf);
@@ -92,7 +92,8 @@ void AsyncKeyframes::frameTick() {
 
 void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
   if (options_.workerNice != 0)  // best effort: a refused change only costs smoothness
-    (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), options_.workerNice);
+    (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)),
+                        options_.workerNice);
   std::unique_ptr<gl::Context> context;
   std::unique_ptr<GeometryRenderer> renderer;
   LodBuilder builder;
@@ -145,8 +146,8 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
     buildStepMs_ = 0;
     stepStartMs_ = clock_.ms();  // idle time before is not the build's
     pace();
-    const Status s = buildCachedKeyframe(*renderer, builder, options_.mesh, cameraOf_(frame),
-                                         frame, *e, [this] { pace(); });
+    const Status s = buildCachedKeyframe(*renderer, builder, options_.mesh, cameraOf_(frame), frame,
+                                         *e, [this] { pace(); });
     endStep();
     lastBuildMs_ = buildStepMs_;
     lock.lock();
@@ -206,9 +207,7 @@ Status AsyncKeyframes::take(int frame, std::unique_ptr<CachedKeyframe>* out, dou
     queue_.push_front(frame);
     workCv_.notify_all();
   }
-  auto finished = [&] {
-    return done_.count(frame) || failed_.count(frame) || workerExited_;
-  };
+  auto finished = [&] { return done_.count(frame) || failed_.count(frame) || workerExited_; };
   if (!finished()) {
     waited = true;
     ++waiting_;  // lifts pacing
@@ -223,7 +222,8 @@ Status AsyncKeyframes::take(int frame, std::unique_ptr<CachedKeyframe>* out, dou
     return e;
   }
   auto d = done_.find(frame);
-  if (d == done_.end()) return makeError("keyframe worker stopped before keyframe " + std::to_string(frame));
+  if (d == done_.end())
+    return makeError("keyframe worker stopped before keyframe " + std::to_string(frame));
   *out = std::move(d->second);
   done_.erase(d);
   return {};

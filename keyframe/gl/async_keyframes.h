@@ -80,7 +80,7 @@ class AsyncKeyframes final : public KeyframeProducer {
   // The main thread started a frame (pacing; see stepsPerFrame).
   void frameTick();
 
-  int built() const;         // keyframes the worker finished
+  int built() const;            // keyframes the worker finished
   double workerBusyMs() const;  // time it spent building them (pacing waits excluded)
   const std::string& glRenderer() const { return glRenderer_; }
 
@@ -105,7 +105,7 @@ class AsyncKeyframes final : public KeyframeProducer {
   std::map<int, Error> failed_;
   std::vector<std::unique_ptr<CachedKeyframe>> free_;  // recycled buffers
   bool stop_ = false, initDone_ = false, workerExited_ = false;
-  int waiting_ = 0;                 // main thread blocked in take()
+  int waiting_ = 0;                  // main thread blocked in take()
   long long ticks_ = 0, steps_ = 0;  // pacing
   // Time pacing (worker thread only, except ticks_): ms of steps run in the
   // current frame window minus budgets granted, and the last build's cost.

@@ -144,8 +144,8 @@ TEST_F(AsyncKeyframesTest, ABoundBelowTwoKeyframesStillHoldsTheBracket) {
   const Indoor in = smallIndoor(64, 12, 4);
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  keyframe::KeyframeCache cache(**r, {}, [&](int i) { return in.path.cameraAt(i); },
-                                keyframe::CacheOptions{1, 2});
+  keyframe::KeyframeCache cache(
+      **r, {}, [&](int i) { return in.path.cameraAt(i); }, keyframe::CacheOptions{1, 2});
   const keyframe::KeyframeSchedule schedule{12, 4, {}};
   cache.setSchedule(schedule);
   for (int i = 0; i < 12; ++i) {
@@ -200,7 +200,8 @@ TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
   const Indoor in = smallIndoor(64, 40, 5);
   keyframe::AsyncKeyframeOptions ao;
   ao.maxQueued = 2;
-  auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+  auto w = keyframe::AsyncKeyframes::create(
+      in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
   ASSERT_TRUE(w.ok()) << w.error().message;
   EXPECT_TRUE((*w)->request(0));
   EXPECT_TRUE((*w)->request(5));
@@ -225,7 +226,8 @@ TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
       ao.budgetScale = 1;
     }
     ao.render.flushEveryTriangles = 1000;  // many steps per keyframe
-    auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    auto w = keyframe::AsyncKeyframes::create(
+        in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
     ASSERT_TRUE(w.ok()) << w.error().message;
     // Waiting lifts the pacing (no deadlock), for the keyframe waited for.
     std::unique_ptr<keyframe::CachedKeyframe> e;
@@ -250,7 +252,8 @@ TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
   keyframe::AsyncKeyframeOptions ao;
   ao.maxQueued = 8;
   for (int round = 0; round < 3; ++round) {
-    auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    auto w = keyframe::AsyncKeyframes::create(
+        in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
     ASSERT_TRUE(w.ok()) << w.error().message;
     for (int f = 0; f < 40; f += 5) EXPECT_TRUE((*w)->request(f));
     // Falls out of scope with keyframes queued and one being built: the
@@ -280,7 +283,8 @@ TEST_F(AsyncKeyframesTest, ABuildErrorComesBackForItsFrameAndTheWorkerStillJoins
 TEST_F(AsyncKeyframesTest, AWorkerContextFailureIsAnErrorFromCreate) {
   const Indoor in = smallIndoor(64, 20, 5);
   ::setenv("HW_GL_FAIL", "1", 1);
-  auto w = keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, {});
+  auto w =
+      keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, {});
   ::unsetenv("HW_GL_FAIL");
   ASSERT_FALSE(w.ok());
   EXPECT_NE(w.error().message.find("keyframe worker"), std::string::npos) << w.error().message;
