@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   int keyframeStepsPerFrame = 2;
   std::string keyframePacing = "time";
-  double keyframeBudgetScale = 1.5;
+  double keyframeBudgetScale = 2.0;
   walk->add_option("--keyframe-pacing", keyframePacing,
                    "With --async-keyframes: how the worker spreads a keyframe over the frames "
                    "before its need: time (each frame allows budget-scale x last build ms / frames "

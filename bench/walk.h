@@ -68,7 +68,7 @@ struct WalkOptions {
   //        steps) per frame;  None: as fast as it can.
   enum class KeyframePacing { None, Steps, Time };
   KeyframePacing keyframePacing = KeyframePacing::Time;
-  double keyframeBudgetScale = 1.5;
+  double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;
 };
 

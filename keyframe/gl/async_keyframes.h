@@ -53,7 +53,7 @@ struct AsyncKeyframeOptions {
   // waiting the next frames. Spreads a keyframe evenly over the frames that
   // precede its need. Lifted while the main thread waits.
   double framesPerKeyframe = 0;
-  double budgetScale = 1.5;
+  double budgetScale = 2.0;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {
