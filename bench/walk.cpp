@@ -89,7 +89,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     aopt.render = ropt;
     aopt.mesh = meshSpec;
     aopt.maxQueued = std::max(1, opt.keyframePrefetch) + 2;  // the bracket + those ahead
-    aopt.render.flushEveryTriangles = opt.keyframeFlushTriangles;
+    aopt.flushEveryTriangles = opt.keyframeFlushTriangles;
     aopt.workerNice = opt.keyframeWorkerNice;
     if (opt.keyframePacing == WalkOptions::KeyframePacing::Steps)
       aopt.stepsPerFrame = opt.keyframeStepsPerFrame;

@@ -18,13 +18,6 @@ namespace hw::keyframe {
 struct RenderOptions {
   DepthMode depthMode = kDefaultDepthMode;  // fixed24 = the paper's 24-bit z-buffer
   bool frustumCulling = true;
-  // glFlush after about this many triangles (0 = one flush at the end). The
-  // image is the same; llvmpipe then rasterises the frame in pieces, so a
-  // second context (the keyframe worker) holds its shared rasteriser threads
-  // for one piece at a time instead of a whole frame.
-  std::size_t flushEveryTriangles = 0;
-  // Called after each of those flushes (e.g. to pace a background renderer).
-  std::function<void()> afterFlush;
 };
 
 struct RenderStats {
@@ -46,6 +39,13 @@ class GeometryRenderer {
   // Colour only (reference images); cheaper readback.
   virtual Status renderColour(const Camera& camera, Image<Rgba8>& out,
                               RenderStats* stats = nullptr) = 0;
+  // glFlush after about `triangles` triangles of a draw (0 = one flush at the
+  // end, the default), calling `afterFlush` (if set) after each. The image is
+  // the same; llvmpipe then rasterises the frame in pieces, so a renderer on
+  // a second context (the keyframe worker) holds the rasteriser threads both
+  // contexts share for one piece at a time, and can be paced between pieces.
+  // Renderers without pieces ignore it.
+  virtual void setFlushEvery(std::size_t /*triangles*/, std::function<void()> /*afterFlush*/) {}
   virtual std::size_t sceneTriangles() const = 0;
   virtual const RenderOptions& options() const = 0;
 };

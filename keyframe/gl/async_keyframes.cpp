@@ -104,20 +104,20 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
       s = Error{"keyframe worker: " + ctx.error().message};
     } else {
       context = std::move(*ctx);
-      RenderOptions ro = options_.render;
-      if (options_.framesPerKeyframe > 0 && ro.flushEveryTriangles > 0) {
-        ro.afterFlush = [this] {
-          glFinish();  // the piece's rasterisation is part of the step's time
-          pace();
-        };
-      } else if (options_.stepsPerFrame > 0 && ro.flushEveryTriangles > 0) {
-        ro.afterFlush = [this] { pace(); };
-      }
-      auto r = GeometryRenderer::create(*scene, ro);
-      if (!r)
+      auto r = GeometryRenderer::create(*scene, options_.render);
+      if (!r) {
         s = Error{"keyframe worker: " + r.error().message};
-      else
+      } else {
         renderer = std::move(*r);
+        if (options_.framesPerKeyframe > 0) {
+          renderer->setFlushEvery(options_.flushEveryTriangles, [this] {
+            glFinish();  // the piece's rasterisation is part of the step's time
+            pace();
+          });
+        } else {
+          renderer->setFlushEvery(options_.flushEveryTriangles, [this] { pace(); });
+        }
+      }
     }
     std::lock_guard lock(mutex_);
     if (context) glRenderer_ = context->renderer();

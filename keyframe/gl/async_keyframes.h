@@ -32,6 +32,11 @@ namespace hw::keyframe {
 
 struct AsyncKeyframeOptions {
   RenderOptions render;  // as the main thread's renderer, for identical keyframes
+  // The worker's renderer flushes after about this many triangles (see
+  // GeometryRenderer::setFlushEvery; 0 = once per keyframe), so frames on the
+  // main context wait behind one piece of a keyframe on llvmpipe's shared
+  // rasteriser threads, and pacing can act between pieces.
+  std::size_t flushEveryTriangles = 8192;
   MeshSpec mesh;
   // Keyframes requested, being built or built and not yet taken; request()
   // refuses more. ≥ 1.

@@ -192,6 +192,11 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return gl::checkGlError("GeometryRenderer::renderColour");
   }
 
+  void setFlushEvery(std::size_t triangles, std::function<void()> afterFlush) override {
+    flushEvery_ = triangles;
+    afterFlush_ = std::move(afterFlush);
+  }
+
   std::size_t sceneTriangles() const override { return triangles_; }
   const RenderOptions& options() const override { return options_; }
 
@@ -266,10 +271,10 @@ class GlGeometryRenderer final : public GeometryRenderer {
       ++stats.meshesDrawn;
       stats.trianglesDrawn += d.indexCount / 3;
       sinceFlush += d.indexCount / 3;
-      if (options_.flushEveryTriangles > 0 && sinceFlush >= options_.flushEveryTriangles) {
+      if (flushEvery_ > 0 && sinceFlush >= flushEvery_) {
         glFlush();
         sinceFlush = 0;
-        if (options_.afterFlush) options_.afterFlush();
+        if (afterFlush_) afterFlush_();
       }
     }
     glBindVertexArray(0);
@@ -279,6 +284,8 @@ class GlGeometryRenderer final : public GeometryRenderer {
   }
 
   RenderOptions options_;
+  std::size_t flushEvery_ = 0;
+  std::function<void()> afterFlush_;
   std::vector<scenes::Material> materials_;
   glm::vec3 sky_{0.0f};
   std::size_t triangles_ = 0;

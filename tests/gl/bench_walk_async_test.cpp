@@ -225,7 +225,7 @@ TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
       ao.framesPerKeyframe = 1000;  // a tiny budget per frame
       ao.budgetScale = 1;
     }
-    ao.render.flushEveryTriangles = 1000;  // many steps per keyframe
+    ao.flushEveryTriangles = 1000;  // many steps per keyframe
     auto w = keyframe::AsyncKeyframes::create(
         in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
     ASSERT_TRUE(w.ok()) << w.error().message;
