@@ -469,6 +469,52 @@ int main(int argc, char** argv) {
                    "is calibrated on the built-in indoor scene)")
       ->capture_default_str();
   addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
+  bool asyncKeyframes = false;
+  double keyframeCacheMb = 256;
+  int keyframePrefetch = 2;
+  walk->add_flag("--async-keyframes", asyncKeyframes,
+                 "Render and mesh keyframes ahead of need on a worker thread with a second "
+                 "OSMesa context (frames are identical; only their timing changes)");
+  walk->add_option("--keyframe-cache-mb", keyframeCacheMb,
+                   "Memory bound of the keyframe cache in MiB (colour + depth + quad mesh; the "
+                   "two keyframes of the current bracket are always kept)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  walk->add_option("--keyframe-prefetch", keyframePrefetch,
+                   "With --async-keyframes: keyframes past the current pair built ahead")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  std::size_t keyframeFlushTriangles = 8192;
+  int keyframeWorkerNice = 0;
+  walk->add_option("--keyframe-flush-triangles", keyframeFlushTriangles,
+                   "With --async-keyframes: the worker flushes its keyframe render after about "
+                   "this many triangles, so frames on the main context wait behind one piece of "
+                   "it on llvmpipe's shared rasteriser threads (0 = one flush)")
+      ->capture_default_str();
+  int keyframeStepsPerFrame = 2;
+  std::string keyframePacing = "time";
+  double keyframeBudgetScale = 2.0;
+  walk->add_option("--keyframe-pacing", keyframePacing,
+                   "With --async-keyframes: how the worker spreads a keyframe over the frames "
+                   "before its need: time (each frame allows budget-scale x last build ms / frames "
+                   "per keyframe of worker time), steps (--keyframe-steps-per-frame steps per "
+                   "frame) or none (as fast as it can); lifted while a frame waits")
+      ->check(CLI::IsMember({"time", "steps", "none"}))
+      ->capture_default_str();
+  walk->add_option("--keyframe-budget-scale", keyframeBudgetScale,
+                   "With --keyframe-pacing time: the worker's time per frame as a multiple of its "
+                   "even share (> 1 lets it get ahead)")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  walk->add_option("--keyframe-steps-per-frame", keyframeStepsPerFrame,
+                   "With --keyframe-pacing steps: worker steps (a flushed piece of the render, the "
+                   "readback, a mesh-build step) per frame")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  walk->add_option("--keyframe-worker-nice", keyframeWorkerNice,
+                   "With --async-keyframes: nice increment of the worker thread (0-19)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
 
   // render
   Common renderC;
@@ -1042,6 +1088,16 @@ int main(int argc, char** argv) {
   if (schedule == "adaptive" && walkPlan.minGap > walkPlan.maxGap)
     return fail("--min-gap " + std::to_string(walkPlan.minGap) + " exceeds --max-gap " +
                 std::to_string(walkPlan.maxGap));
+  wo.asyncKeyframes = asyncKeyframes;
+  wo.keyframeCacheBytes = static_cast<std::size_t>(keyframeCacheMb * 1024 * 1024);
+  wo.keyframePrefetch = keyframePrefetch;
+  wo.keyframeFlushTriangles = keyframeFlushTriangles;
+  wo.keyframeWorkerNice = keyframeWorkerNice;
+  wo.keyframeStepsPerFrame = keyframeStepsPerFrame;
+  wo.keyframePacing = keyframePacing == "time"    ? bench::WalkOptions::KeyframePacing::Time
+                     : keyframePacing == "steps" ? bench::WalkOptions::KeyframePacing::Steps
+                                                 : bench::WalkOptions::KeyframePacing::None;
+  wo.keyframeBudgetScale = keyframeBudgetScale;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
@@ -1105,6 +1161,8 @@ int main(int argc, char** argv) {
       "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
       "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
       "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
+      "  every frame (%s keyframes) %.2f ms median, p95 %.2f (p95/median %.2f); "
+      "%d keyframe stalls, %.1f ms waited\n"
       "report: %s/report.json\n",
       walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
       s["frames"].get<int>(), s["keyframes"].get<int>(), schedule.c_str(), tauS.c_str(),
@@ -1112,6 +1170,9 @@ int main(int argc, char** argv) {
       num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
       100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),
       num(s["in_between_ms"]["median"]), num(s["in_between_ms"]["p95"]),
-      num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]), walkOut.c_str());
+      num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]),
+      s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
+      num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
+      s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]), walkOut.c_str());
   return 0;
 }

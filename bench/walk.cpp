@@ -19,6 +19,7 @@
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
+#include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 
 namespace hw::bench {
@@ -81,9 +82,49 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       schedule.explicitFrames.end());
   if (!opt.keyframeFrames.empty() && schedule.explicitFrames.empty())
     schedule.explicitFrames.push_back(frames - 1);  // only the two ends
-  keyframe::KeyframeCache cache(renderer, keyframe::MeshSpec{opt.mesh, opt.lod, opt.tileSize},
-                                [&](int i) { return path.cameraAt(i); });
+  // Keyframe acquisition: cache (memory bound), and with asyncKeyframes a
+  // worker that renders and meshes them ahead along the schedule. The worker
+  // is declared first so it outlives the cache and is joined on every return.
+  const keyframe::MeshSpec meshSpec{opt.mesh, opt.lod, opt.tileSize};
+  const bool asyncKf = opt.asyncKeyframes && !opt.keyframeSource;
+  std::unique_ptr<keyframe::AsyncKeyframes> kfWorker;
+  if (asyncKf) {
+    keyframe::AsyncKeyframeOptions aopt;
+    aopt.render = ropt;
+    aopt.mesh = meshSpec;
+    aopt.maxQueued = std::max(1, opt.keyframePrefetch) + 2;  // the bracket + those ahead
+    aopt.flushEveryTriangles = opt.keyframeFlushTriangles;
+    aopt.workerNice = opt.keyframeWorkerNice;
+    if (opt.keyframePacing == WalkOptions::KeyframePacing::Steps)
+      aopt.stepsPerFrame = opt.keyframeStepsPerFrame;
+    if (opt.keyframePacing == WalkOptions::KeyframePacing::Time) {
+      const std::size_t nk = schedule.keyframes().size();
+      aopt.framesPerKeyframe = nk > 1 ? static_cast<double>(frames - 1) / static_cast<double>(nk - 1) : 1.0;
+      aopt.budgetScale = opt.keyframeBudgetScale;
+    }
+    auto w = keyframe::AsyncKeyframes::create(scene, [&path](int i) { return path.cameraAt(i); },
+                                              aopt);
+    if (!w) return w.error();
+    kfWorker = std::move(*w);
+  }
+  keyframe::KeyframeCache cache(renderer, meshSpec, [&](int i) { return path.cameraAt(i); },
+                                keyframe::CacheOptions{opt.keyframeCacheBytes,
+                                                       std::max(0, opt.keyframePrefetch)});
+  cache.setSchedule(schedule);
   if (opt.keyframeSource) cache.setSource(opt.keyframeSource);
+  if (kfWorker) cache.setProducer(kfWorker.get());
+  double frameWaitMs = 0;  // this frame's wait for keyframes not ready
+  // Warm-up, as a viewer loads before its first frame: the first two
+  // keyframes are built (or, async, waited for) before the walk starts.
+  Stopwatch warmupSw;
+  if (asyncKf) HW_TRY(cache.prefetch(frames > 1 ? 1 : 0));
+  for (int k : {schedule.bracket(0).first, schedule.bracket(frames > 1 ? 1 : 0).second}) {
+    auto kf = cache.get(k);
+    if (!kf) return kf.error();
+  }
+  const double warmupMs = warmupSw.ms();
+  const int warmupStalls = cache.stalls();
+  std::vector<double> frameMsAll, inBetweenFrameMs, stallMs;
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
   std::map<int, warp::WarpStats> uploadStats;
 
@@ -138,6 +179,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     auto kf = cache.get(k);
     if (!kf) return kf.error();
     *kfOut = *kf;
+    if (cache.lastWaitMs() > 0) {
+      frameWaitMs += cache.lastWaitMs();
+      stallMs.push_back(cache.lastWaitMs());
+    }
     if (!sources.count(k)) {
       warp::WarpStats ws;
       auto src = warper.upload((*kf)->keyframe, (*kf)->mesh, &ws);
@@ -208,6 +253,14 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       refMs = rs.drawMs + rs.readbackMs;
       referenceMs.push_back(refMs);
     }
+    // What a viewer waits for: keyframe acquisition (build or wait),
+    // upload, warp, compose; not the reference or the metrics.
+    Stopwatch frameSw;
+    frameWaitMs = 0;
+    if (asyncKf) {
+      kfWorker->frameTick();
+      HW_TRY(cache.prefetch(i));
+    }
     if (k0 == k1) {
       // Keyframe: the geometry frame itself is displayed.
       const keyframe::CachedKeyframe* kf = nullptr;
@@ -234,6 +287,19 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
         HW_TRY(drawNear(cam, k0, k0, kf->keyframe.eyeZ, ms));
         ms["total"] = ms["total"].get<double>() + ms["near_geometry"].get<double>();
       }
+      // The displayed keyframe costs no warp: upload the next keyframe now
+      // if it is already built, instead of on the next frame.
+      if (i + 1 < frames) {
+        const int next = schedule.bracket(i + 1).second;
+        if (next != k0 && !sources.count(next) && cache.contains(next)) {
+          const keyframe::CachedKeyframe* kn = nullptr;
+          HW_TRY(getSource(next, &kn));
+          // llvmpipe's first draw from a new source costs about a warp more
+          // than later ones (measured): take it here, into a scratch layer.
+          HW_TRY(warper.warp(*sources[next], cam, layerB, nullptr));
+        }
+      }
+      ms["frame"] = frameSw.ms();
       fj["holes_before_fallback"] = 0.0;
       fj["holes_after_fallback"] = 0.0;
       if (opt.reference) {
@@ -326,6 +392,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       fj["skipped"] = {{"background", bgSkipped}, {"previous_frame", prevSkipped}};
       fj["foreground_uncovered_pixels"] = fgUncovered;
       foregroundUncovered.push_back(fgUncovered);
+      ms["frame"] = frameSw.ms();
+      inBetweenFrameMs.push_back(ms["frame"].get<double>());
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
       holesBefore.push_back(frame.holeFractionBefore);
@@ -356,6 +424,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                              {"holes_before_fallback", frame.holeFractionBefore}});
       }
     }
+    ms["keyframe_wait"] = frameWaitMs;
+    frameMsAll.push_back(ms["frame"].get<double>());
     fj["reference_ms"] = opt.reference ? json(refMs) : json(nullptr);
     fj["ms"] = ms;
     if (writing && opt.saveFrames) {
@@ -432,6 +502,41 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["gl_errors"] =
       std::max(glErrors, debugErrors0 < 0 ? 0LL : gl::debugCallbackErrors() - debugErrors0);
   summary["resident_kib_every_500_frames"] = rssKiB;
+  // Frame-time stability (issue #8): wall time per frame as a viewer sees
+  // it, keyframe frames included, and the in-between frames alone.
+  auto ratio = [](const std::vector<double>& v) {
+    const double m = median(v);
+    return m > 0 ? finiteOrNull(percentile(v, 95) / m) : json(nullptr);
+  };
+  summary["keyframe_acquisition"] = opt.keyframeSource ? "source" : asyncKf ? "async" : "sync";
+  summary["async_keyframes"] = asyncKf;
+  summary["keyframe_prefetch"] = asyncKf ? json(opt.keyframePrefetch) : json(nullptr);
+  summary["keyframe_cache_mb"] = static_cast<double>(opt.keyframeCacheBytes) / (1 << 20);
+  summary["keyframe_cache_peak_mb"] = static_cast<double>(cache.peakBytes()) / (1 << 20);
+  summary["keyframe_cache_evictions"] = cache.evictions();
+  summary["frame_ms"] = stats(frameMsAll);
+  summary["frame_ms_p95_over_median"] = ratio(frameMsAll);
+  summary["in_between_frame_ms"] = stats(inBetweenFrameMs);
+  summary["in_between_frame_ms_p95_over_median"] = ratio(inBetweenFrameMs);
+  summary["keyframe_stalls"] = cache.stalls() - warmupStalls;
+  summary["keyframe_warmup_ms"] = warmupMs;
+  summary["keyframe_stall_ms"] = stats(stallMs);
+  double stallTotal = 0;
+  for (double t : stallMs) stallTotal += t;
+  summary["keyframe_stall_ms_total"] = stallTotal;
+  summary["keyframe_flush_triangles"] = asyncKf ? json(opt.keyframeFlushTriangles) : json(nullptr);
+  summary["keyframe_worker_nice"] = asyncKf ? json(opt.keyframeWorkerNice) : json(nullptr);
+  const char* pacingName = opt.keyframePacing == WalkOptions::KeyframePacing::Time    ? "time"
+                           : opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? "steps"
+                                                                                      : "none";
+  summary["keyframe_pacing"] = asyncKf ? json(pacingName) : json(nullptr);
+  summary["keyframe_budget_scale"] =
+      asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Time ? json(opt.keyframeBudgetScale)
+                                                                         : json(nullptr);
+  summary["keyframe_steps_per_frame"] =
+      asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? json(opt.keyframeStepsPerFrame)
+                                                                          : json(nullptr);
+  summary["keyframe_worker_busy_ms"] = kfWorker ? json(kfWorker->workerBusyMs()) : json(nullptr);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 

@@ -4,6 +4,7 @@
 // backward-warped from its two bracketing keyframes and composed with the
 // previous frame (Zheng et al. 1999 §2); each frame measured against the
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -62,6 +63,30 @@ struct WalkOptions {
   std::vector<int> keyframeFrames;
   // Where keyframes come from (empty = rendered and meshed on the fly).
   keyframe::KeyframeCache::Source keyframeSource;
+  // Keyframe acquisition (issue #8, stable frame rate). Bound on the bytes of
+  // cached keyframes (colour + depth + mesh).
+  std::size_t keyframeCacheBytes = keyframe::CacheOptions{}.maxBytes;
+  // Render and mesh keyframes ahead of need on a worker thread with a second
+  // OSMesa context; the main thread only uploads them. Off = built on first
+  // use on the main thread (the reference behaviour). Ignored with a
+  // keyframeSource. Frames are bit-identical either way.
+  bool asyncKeyframes = false;
+  int keyframePrefetch = 2;  // async: keyframes past the current bracket built ahead
+  // async: the worker's renderer flushes after about this many triangles, so
+  // the main thread's warp waits behind at most one piece of a keyframe on
+  // llvmpipe's rasteriser threads, which both contexts share (0 = no flush).
+  std::size_t keyframeFlushTriangles = 8192;
+  int keyframeWorkerNice = 0;  // async: nice increment of the worker thread (Linux)
+  // async pacing of the worker, so a keyframe's cost is spread over the
+  // frames before its need instead of landing on one or two:
+  //  Time: each frame grants budgetScale × (last build's ms) / (frames per
+  //        keyframe) of worker time (AsyncKeyframeOptions::framesPerKeyframe);
+  //  Steps: keyframeStepsPerFrame steps (render pieces, readback, mesh build
+  //        steps) per frame;  None: as fast as it can.
+  enum class KeyframePacing { None, Steps, Time };
+  KeyframePacing keyframePacing = KeyframePacing::Time;
+  double keyframeBudgetScale = 2.0;
+  int keyframeStepsPerFrame = 2;
 };
 
 struct WalkResult {

@@ -6,6 +6,7 @@
 // per-frame allocation. Needs a current GL context (core/gl/context.h).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "core/camera.h"
@@ -51,6 +52,13 @@ class GeometryRenderer {
   virtual Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount,
                             double distance, Image<Rgba8>& colour, Image<float>& eyeZ,
                             Image<std::uint8_t>& covered, RenderStats* stats = nullptr) = 0;
+  // glFlush after about `triangles` triangles of a draw (0 = one flush at the
+  // end, the default), calling `afterFlush` (if set) after each. The image is
+  // the same; llvmpipe then rasterises the frame in pieces, so a renderer on
+  // a second context (the keyframe worker) holds the rasteriser threads both
+  // contexts share for one piece at a time, and can be paced between pieces.
+  // Renderers without pieces ignore it.
+  virtual void setFlushEvery(std::size_t /*triangles*/, std::function<void()> /*afterFlush*/) {}
   virtual std::size_t sceneTriangles() const = 0;
   virtual const RenderOptions& options() const = 0;
 };

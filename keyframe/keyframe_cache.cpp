@@ -44,59 +44,212 @@ const char* meshMethodName(MeshMethod m) {
   return "?";
 }
 
+std::size_t cachedKeyframeBytes(const CachedKeyframe& e) {
+  const std::size_t px = static_cast<std::size_t>(e.keyframe.colour.width()) *
+                         static_cast<std::size_t>(e.keyframe.colour.height());
+  const std::size_t zpx = static_cast<std::size_t>(e.keyframe.zPrime.width()) *
+                          static_cast<std::size_t>(e.keyframe.zPrime.height());
+  const std::size_t ezpx = static_cast<std::size_t>(e.keyframe.eyeZ.width()) *
+                           static_cast<std::size_t>(e.keyframe.eyeZ.height());
+  const std::size_t cpx = static_cast<std::size_t>(e.keyframe.covered.width()) *
+                          static_cast<std::size_t>(e.keyframe.covered.height());
+  return sizeof(CachedKeyframe) + px * sizeof(Rgba8) + zpx * sizeof(double) +
+         ezpx * sizeof(float) + cpx * sizeof(std::uint8_t) + e.mesh.quads.size() * sizeof(Quad);
+}
+
+Status buildCachedKeyframe(GeometryRenderer& renderer, LodBuilder& builder, const MeshSpec& spec,
+                           const Camera& camera, int frame, CachedKeyframe& out,
+                           const std::function<void()>& betweenSteps) {
+  out.frame = frame;
+  HW_TRY(renderer.renderKeyframe(camera, out.keyframe, &out.render));
+  out.renderMs = out.render.drawMs + out.render.readbackMs;
+  if (betweenSteps) betweenSteps();
+  switch (spec.method) {
+    case MeshMethod::Lod:
+      if (!betweenSteps) {
+        HW_TRY(builder.build(out.keyframe, spec.lod, &out.mesh));
+      } else {
+        // build()'s three steps with a pause point between them; the same
+        // calls, so the same quads.
+        Stopwatch sw;
+        out.mesh.quads.clear();
+        out.mesh.stats = QuadMeshStats{};
+        HW_TRY(builder.prepare(out.keyframe.zPrime.view(), out.keyframe.covered.view(),
+                               out.keyframe.camera, spec.lod));
+        const double deltaMs = sw.ms();
+        betweenSteps();
+        const double subdivideMs = builder.subdivide();
+        betweenSteps();
+        const double cornersMs = builder.recoverCorners(&out.mesh);
+        out.mesh.stats.deltaMs = deltaMs;
+        out.mesh.stats.subdivideMs = subdivideMs;
+        out.mesh.stats.cornersMs = cornersMs;
+      }
+      break;
+    case MeshMethod::UniformTiles: {
+      auto m = buildUniformTiles(out.keyframe, spec.tileSize, &builder);
+      if (!m) return m.error();
+      out.mesh = std::move(*m);
+      break;
+    }
+    case MeshMethod::PerPixel: {
+      auto m = buildPerPixel(out.keyframe, &builder);
+      if (!m) return m.error();
+      out.mesh = std::move(*m);
+      break;
+    }
+  }
+  return {};
+}
+
 KeyframeCache::KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh,
-                             std::function<Camera(int)> cameraOf, std::size_t capacity)
-    : renderer_(renderer), mesh_(mesh), cameraOf_(std::move(cameraOf)), capacity_(capacity) {
-  HW_CHECK_GE(capacity_, std::size_t{2});
+                             std::function<Camera(int)> cameraOf, CacheOptions options)
+    : renderer_(renderer), mesh_(mesh), cameraOf_(std::move(cameraOf)), options_(options) {
+  HW_CHECK_GE(options_.prefetch, 0);
+}
+
+KeyframeCache::~KeyframeCache() = default;
+
+void KeyframeCache::setSchedule(KeyframeSchedule schedule) {
+  schedule_ = std::move(schedule);
+  scheduleKeyframes_ = schedule_.keyframes();
+}
+
+bool KeyframeCache::contains(int frame) const {
+  for (const auto& e : entries_)
+    if (e->frame == frame) return true;
+  return false;
+}
+
+std::unique_ptr<CachedKeyframe> KeyframeCache::freshEntry() {
+  if (spare_) return std::move(spare_);
+  return std::make_unique<CachedKeyframe>();
+}
+
+void KeyframeCache::insert(std::unique_ptr<CachedKeyframe> e) {
+  const std::size_t b = cachedKeyframeBytes(*e);
+  entries_.push_back(std::move(e));
+  entryBytes_.push_back(b);
+  bytes_ += b;
+  largestEntry_ = std::max(largestEntry_, b);
+}
+
+// Least recently used first, skipping `keep`, until within the bound.
+void KeyframeCache::evict(const std::vector<int>& keep) {
+  for (std::size_t i = 0; i < entries_.size() && bytes_ > options_.maxBytes;) {
+    if (std::find(keep.begin(), keep.end(), entries_[i]->frame) != keep.end()) {
+      ++i;
+      continue;
+    }
+    bytes_ -= entryBytes_[i];
+    std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
+    entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
+    entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
+    ++evictions_;
+    if (producer_ && !source_)
+      producer_->recycle(std::move(gone));
+    else
+      spare_ = std::move(gone);
+  }
 }
 
 Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
+  lastWaitMs_ = 0;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     if (entries_[i]->frame != frame) continue;
     std::rotate(entries_.begin() + static_cast<std::ptrdiff_t>(i),
                 entries_.begin() + static_cast<std::ptrdiff_t>(i) + 1, entries_.end());
+    std::rotate(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i),
+                entryBytes_.begin() + static_cast<std::ptrdiff_t>(i) + 1, entryBytes_.end());
     if (built) *built = false;
     return static_cast<const CachedKeyframe*>(entries_.back().get());
   }
   std::unique_ptr<CachedKeyframe> e;
-  if (entries_.size() >= capacity_) {  // reuse the least recently used entry's buffers
-    e = std::move(entries_.front());
-    entries_.erase(entries_.begin());
-  } else {
-    e = std::make_unique<CachedKeyframe>();
-  }
-  e->frame = frame;
   if (source_) {
+    e = freshEntry();
+    e->frame = frame;
     HW_TRY(source_(frame, *e));
     e->frame = frame;
-    ++builds_;
-    entries_.push_back(std::move(e));
-    if (built) *built = true;
-    return static_cast<const CachedKeyframe*>(entries_.back().get());
-  }
-  HW_TRY(renderer_.renderKeyframe(cameraOf_(frame), e->keyframe, &e->render));
-  e->renderMs = e->render.drawMs + e->render.readbackMs;
-  switch (mesh_.method) {
-    case MeshMethod::Lod:
-      HW_TRY(builder_.build(e->keyframe, mesh_.lod, &e->mesh));
-      break;
-    case MeshMethod::UniformTiles: {
-      auto m = buildUniformTiles(e->keyframe, mesh_.tileSize, &builder_);
-      if (!m) return m.error();
-      e->mesh = std::move(*m);
-      break;
+  } else if (producer_) {
+    double waited = 0;
+    HW_TRY(producer_->take(frame, &e, &waited));
+    HW_CHECK(e != nullptr);
+    HW_CHECK_EQ(e->frame, frame);
+    if (waited > 0) {
+      ++stalls_;
+      stallMs_ += waited;
+      lastWaitMs_ = waited;
     }
-    case MeshMethod::PerPixel: {
-      auto m = buildPerPixel(e->keyframe, &builder_);
-      if (!m) return m.error();
-      e->mesh = std::move(*m);
-      break;
-    }
+  } else {
+    e = freshEntry();
+    HW_TRY(buildCachedKeyframe(renderer_, builder_, mesh_, cameraOf_(frame), frame, *e));
   }
   ++builds_;
-  entries_.push_back(std::move(e));
+  insert(std::move(e));
+  // Keep this entry and the one used before it (the other end of a bracket).
+  std::vector<int> keep{frame};
+  if (entries_.size() >= 2) keep.push_back(entries_[entries_.size() - 2]->frame);
+  evict(keep);
+  peakBytes_ = std::max(peakBytes_, bytes_);
   if (built) *built = true;
   return static_cast<const CachedKeyframe*>(entries_.back().get());
+}
+
+Status KeyframeCache::prefetch(int frame) {
+  HW_CHECK(!scheduleKeyframes_.empty());
+  const auto [k0, k1] = schedule_.bracket(frame);
+  wanted_.clear();
+  wanted_.push_back(k0);
+  if (k1 != k0) wanted_.push_back(k1);
+  const std::size_t bracket = wanted_.size();
+  auto it = std::upper_bound(scheduleKeyframes_.begin(), scheduleKeyframes_.end(), k1);
+  for (int n = 0; n < options_.prefetch && it != scheduleKeyframes_.end(); ++n, ++it)
+    wanted_.push_back(*it);
+  if (source_) return {};  // a source is synchronous and may not be thread-safe
+  auto wantedBytes = [&] {
+    std::size_t b = 0;
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+      if (std::find(wanted_.begin(), wanted_.end(), entries_[i]->frame) != wanted_.end())
+        b += entryBytes_[i];
+    return b;
+  };
+  for (std::size_t w = 0; w < wanted_.size(); ++w) {
+    const int f = wanted_[w];
+    if (contains(f)) continue;
+    const bool ahead = w >= bracket;  // the bracket always comes in (get() would take it)
+    if (producer_) {
+      std::size_t b = 0;
+      if (!producer_->ready(f, &b)) {
+        if (!producer_->request(f)) break;  // queue full: later
+        continue;
+      }
+      // Finished: moved in if it fits beside the entries still wanted,
+      // otherwise it waits in the producer until get() takes it.
+      if (ahead && wantedBytes() + b > options_.maxBytes) continue;
+      std::unique_ptr<CachedKeyframe> e;
+      double waited = 0;
+      HW_TRY(producer_->take(f, &e, &waited));
+      ++builds_;
+      insert(std::move(e));
+    } else {
+      if (ahead && wantedBytes() + largestEntry_ > options_.maxBytes) break;
+      std::unique_ptr<CachedKeyframe> e = freshEntry();
+      HW_TRY(buildCachedKeyframe(renderer_, builder_, mesh_, cameraOf_(f), f, *e));
+      ++builds_;
+      insert(std::move(e));
+      if (ahead && wantedBytes() > options_.maxBytes) {  // larger than any before: drop it
+        bytes_ -= entryBytes_.back();
+        entryBytes_.pop_back();
+        spare_ = std::move(entries_.back());
+        entries_.pop_back();
+        ++evictions_;
+        break;
+      }
+    }
+    evict(wanted_);
+  }
+  peakBytes_ = std::max(peakBytes_, bytes_);
+  return {};
 }
 
 }  // namespace hw::keyframe

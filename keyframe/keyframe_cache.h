@@ -2,6 +2,7 @@
 // KeyframeCache: keyframes of a camera path and their quad meshes, built once
 // on first use and kept while they can still bracket a frame (Zheng et al.
 // 1999 §2: every in-between frame uses the two keyframes around it).
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <utility>
@@ -55,6 +56,45 @@ struct CachedKeyframe {
   double renderMs = 0;  // geometry draw + readback
 };
 
+// Bytes an entry holds: colour, z', eye z, coverage and the quads.
+std::size_t cachedKeyframeBytes(const CachedKeyframe& e);
+
+// Renders `camera` with `renderer` and meshes it per `spec` into `out`
+// (buffers reused when sizes match). The one build path for the synchronous
+// cache and the keyframe worker, so both give bit-identical keyframes.
+// `betweenSteps`, if set, is called between the render and the mesh build.
+Status buildCachedKeyframe(GeometryRenderer& renderer, LodBuilder& builder, const MeshSpec& spec,
+                           const Camera& camera, int frame, CachedKeyframe& out,
+                           const std::function<void()>& betweenSteps = {});
+
+// Builds keyframes somewhere else (a worker thread, keyframe/gl/async_keyframes.h).
+// All calls come from the cache's (main) thread.
+class KeyframeProducer {
+ public:
+  virtual ~KeyframeProducer() = default;
+  // Queues `frame` for building, after those queued before. False when the
+  // queue is full (try again later); true when queued, building or done.
+  virtual bool request(int frame) = 0;
+  // Whether `frame` is built (take() would not block); *bytes then gets its
+  // cachedKeyframeBytes.
+  virtual bool ready(int frame, std::size_t* bytes = nullptr) const = 0;
+  // The built keyframe of `frame`, waiting for it if needed (queued first
+  // when it was never requested). *waitedMs: time spent waiting (0 when it
+  // was ready). A build error comes back here, for the frame that had it.
+  virtual Status take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) = 0;
+  // Gives an evicted entry back so its buffers are reused.
+  virtual void recycle(std::unique_ptr<CachedKeyframe> entry) = 0;
+};
+
+struct CacheOptions {
+  // Bound on the bytes of the cached entries (cachedKeyframeBytes). The two
+  // most recently used entries (a bracket) are always kept, so a bound below
+  // two keyframes holds two.
+  std::size_t maxBytes = std::size_t{256} << 20;
+  // Keyframes past the current bracket that prefetch() builds or requests.
+  int prefetch = 2;
+};
+
 class KeyframeCache {
  public:
   // Where a keyframe comes from when it is not cached: by default the
@@ -62,22 +102,58 @@ class KeyframeCache {
   // database) fills `out` (frame, keyframe, mesh, render stats) instead.
   using Source = std::function<Status(int frame, CachedKeyframe& out)>;
   void setSource(Source source) { source_ = std::move(source); }
-  // `renderer` must outlive the cache. capacity ≥ 2.
+  // Keyframes are taken from `producer` (not owned; outlives the cache's
+  // use of it) instead of being built here. A source takes precedence.
+  void setProducer(KeyframeProducer* producer) { producer_ = producer; }
+  // The schedule prefetch() follows.
+  void setSchedule(KeyframeSchedule schedule);
+  // `renderer` must outlive the cache.
   KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh, std::function<Camera(int)> cameraOf,
-                std::size_t capacity = 3);
-  // The keyframe of `frame`, built if not cached. *built tells whether it was.
+                CacheOptions options = {});
+  ~KeyframeCache();
+  // The keyframe of `frame`, built (or taken from the producer) if not
+  // cached. *built tells whether it was. The pointer stays valid until a
+  // later get() or prefetch() evicts it; the two most recent get()s are
+  // never evicted by the next one.
   Result<const CachedKeyframe*> get(int frame, bool* built = nullptr);
-  std::size_t builds() const { return builds_; }
+  // Ahead of need along the schedule (setSchedule first): the bracket of
+  // `frame` and the next CacheOptions::prefetch keyframes. With a producer
+  // they are requested and finished ones moved into the cache (never
+  // blocks); without one they are built here, now (for idle time).
+  Status prefetch(int frame);
+
+  std::size_t builds() const { return builds_; }        // entries built or taken
+  std::size_t bytes() const { return bytes_; }          // held now
+  std::size_t peakBytes() const { return peakBytes_; }  // most held after any call
+  std::size_t evictions() const { return evictions_; }
+  std::size_t entries() const { return entries_.size(); }
+  bool contains(int frame) const;
+  int stalls() const { return stalls_; }             // get()s that waited for the producer
+  double stallMs() const { return stallMs_; }        // total time they waited
+  double lastWaitMs() const { return lastWaitMs_; }  // of the last get() (0 if none)
+  const CacheOptions& options() const { return options_; }
 
  private:
+  void insert(std::unique_ptr<CachedKeyframe> e);
+  void evict(const std::vector<int>& keep);
+  std::unique_ptr<CachedKeyframe> freshEntry();
+
   GeometryRenderer& renderer_;
   MeshSpec mesh_;
   std::function<Camera(int)> cameraOf_;
-  std::size_t capacity_;
+  CacheOptions options_;
   LodBuilder builder_;
   std::vector<std::unique_ptr<CachedKeyframe>> entries_;  // most recently used last
-  std::size_t builds_ = 0;
+  std::unique_ptr<CachedKeyframe> spare_;                 // evicted, buffers reused
+  std::vector<std::size_t> entryBytes_;                   // parallel to entries_
+  std::size_t builds_ = 0, bytes_ = 0, peakBytes_ = 0, evictions_ = 0, largestEntry_ = 0;
+  int stalls_ = 0;
+  double stallMs_ = 0, lastWaitMs_ = 0;
   Source source_;
+  KeyframeProducer* producer_ = nullptr;
+  KeyframeSchedule schedule_;
+  std::vector<int> scheduleKeyframes_;
+  std::vector<int> wanted_;  // scratch: prefetch's list
 };
 
 }  // namespace hw::keyframe

@@ -38,6 +38,15 @@ class Context {
 // creation fail on purpose (to test that callers report it).
 Result<std::unique_ptr<Context>> createHeadlessContext();
 
+// Another OSMesa context, to be made current on another thread (e.g. the
+// keyframe worker) while the first one stays in use. OSMesa's entry points
+// are per-thread dispatch stubs, so the table loaded for the first context
+// serves it unchanged; error when that table came from a GLFW window instead
+// (it would have to be refilled under the thread using it). Creation is
+// serialised with other context creations; the context belongs to the
+// thread that created it.
+Result<std::unique_ptr<Context>> createSecondHeadlessContext();
+
 class WindowContext : public Context {
  public:
   virtual GLFWwindow* window() = 0;

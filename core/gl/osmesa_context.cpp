@@ -4,9 +4,16 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 #include "core/gl/context.h"
+
+// The entry-point table's glGetString (core/gl/gl_api.h, not included here:
+// its glcorearb.h would meet osmesa.h's gl.h).
+namespace hwgl {
+extern decltype(&::glGetString) glGetString;
+}
 
 namespace hw::gl {
 
@@ -46,9 +53,7 @@ void* osmesaProc(const char* name) {
   return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
 }
 
-}  // namespace
-
-Result<std::unique_ptr<Context>> createHeadlessContext() {
+Result<std::unique_ptr<Context>> createHeadless(bool second) {
   const char* fail = std::getenv("HW_GL_FAIL");
   if (fail && std::strcmp(fail, "1") == 0)
     return makeError("cannot create an OSMesa OpenGL context: HW_GL_FAIL=1 is set");
@@ -59,6 +64,10 @@ Result<std::unique_ptr<Context>> createHeadlessContext() {
                          OSMESA_CONTEXT_MAJOR_VERSION, 4,
                          OSMESA_CONTEXT_MINOR_VERSION, 5,
                          0};
+  // One context per thread may be created concurrently with GL calls on
+  // another (the keyframe worker): the creation itself is serialised.
+  static std::mutex creationMutex;
+  std::lock_guard lock(creationMutex);
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
   if (!ctx)
     return makeError(
@@ -67,8 +76,28 @@ Result<std::unique_ptr<Context>> createHeadlessContext() {
         "unavailable driver)");
   auto context = std::make_unique<OsMesaContext>(ctx);
   if (!context->init()) return makeError("cannot make the OSMesa context current");
-  HW_TRY(loadGlFunctions(&osmesaProc));
+  // OSMesaGetProcAddress hands out Mesa's dispatch stubs, which are the same
+  // for every context and call into the context current on the calling
+  // thread (checked: equal pointers from two contexts on two threads). So a
+  // table already filled from OSMesa serves a second context as it is, and is
+  // not rewritten while another thread may be calling through it.
+  const bool tableFromOsMesa =
+      reinterpret_cast<void*>(hwgl::glGetString) == osmesaProc("glGetString");
+  if (second && !tableFromOsMesa) {
+    // Refilling it would pull the table from under the thread that uses it.
+    return makeError(
+        "cannot create a second OSMesa context for a worker thread: the GL entry points were "
+        "loaded from another kind of context (a GLFW window); create the first context with "
+        "createHeadlessContext()");
+  }
+  if (!tableFromOsMesa) HW_TRY(loadGlFunctions(&osmesaProc));
   return std::unique_ptr<Context>(std::move(context));
 }
+
+}  // namespace
+
+Result<std::unique_ptr<Context>> createHeadlessContext() { return createHeadless(false); }
+
+Result<std::unique_ptr<Context>> createSecondHeadlessContext() { return createHeadless(true); }
 
 }  // namespace hw::gl

@@ -207,6 +207,11 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return gl::checkGlError("GeometryRenderer::renderNear");
   }
 
+  void setFlushEvery(std::size_t triangles, std::function<void()> afterFlush) override {
+    flushEvery_ = triangles;
+    afterFlush_ = std::move(afterFlush);
+  }
+
   std::size_t sceneTriangles() const override { return triangles_; }
   const RenderOptions& options() const override { return options_; }
 
@@ -284,6 +289,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
     glDisable(GL_BLEND);
     glFrontFace(GL_CCW);
     int bound = -1;
+    std::size_t sinceFlush = 0;
     for (const DrawItem& d : items_) {
       if (options_.frustumCulling && aabbOutside(planes, d.lo, d.hi)) continue;
       if (filter && filter->skip(d.lo, d.hi)) continue;
@@ -308,6 +314,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
                      reinterpret_cast<void*>(d.firstIndex * sizeof(std::uint32_t)));
       ++stats.meshesDrawn;
       stats.trianglesDrawn += d.indexCount / 3;
+      sinceFlush += d.indexCount / 3;
+      if (flushEvery_ > 0 && sinceFlush >= flushEvery_) {
+        glFlush();
+        sinceFlush = 0;
+        if (afterFlush_) afterFlush_();
+      }
     }
     glBindVertexArray(0);
     glFinish();
@@ -316,6 +328,8 @@ class GlGeometryRenderer final : public GeometryRenderer {
   }
 
   RenderOptions options_;
+  std::size_t flushEvery_ = 0;
+  std::function<void()> afterFlush_;
   std::vector<scenes::Material> materials_;
   glm::vec3 sky_{0.0f};
   std::size_t triangles_ = 0;

@@ -1,0 +1,248 @@
+#include "keyframe/gl/async_keyframes.h"
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "core/check.h"
+#include "core/gl/context.h"
+#include "core/gl/gl_api.h"
+#include "core/timer.h"
+#include "keyframe/lod_builder.h"
+
+namespace hw::keyframe {
+
+Result<std::unique_ptr<AsyncKeyframes>> AsyncKeyframes::create(
+    const scenes::Scene& scene, std::function<Camera(int)> cameraOf,
+    const AsyncKeyframeOptions& options) {
+  HW_CHECK_GE(options.maxQueued, 1);
+  std::unique_ptr<AsyncKeyframes> a(new AsyncKeyframes());
+  a->cameraOf_ = std::move(cameraOf);
+  a->options_ = options;
+  Status init;
+  a->thread_ = std::thread(&AsyncKeyframes::run, a.get(), &scene, &init);
+  {
+    std::unique_lock lock(a->mutex_);
+    a->doneCv_.wait(lock, [&] { return a->initDone_; });
+  }
+  if (!init.ok()) return init.error();  // the worker has exited; ~AsyncKeyframes joins
+  return a;
+}
+
+AsyncKeyframes::~AsyncKeyframes() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+    queue_.clear();
+  }
+  workCv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void AsyncKeyframes::endStep() {
+  const double now = clock_.ms();
+  debtMs_ += now - stepStartMs_;
+  buildStepMs_ += now - stepStartMs_;
+  stepStartMs_ = now;
+}
+
+void AsyncKeyframes::pace() {
+  if (options_.framesPerKeyframe > 0) {
+    endStep();
+    std::unique_lock lock(mutex_);
+    const double budget =
+        std::max(0.5, options_.budgetScale * lastBuildMs_ / options_.framesPerKeyframe);
+    auto settle = [&] {  // each new frame pays back one budget
+      if (ticks_ > paidTicks_) {
+        debtMs_ = std::max(0.0, debtMs_ - budget * static_cast<double>(ticks_ - paidTicks_));
+        paidTicks_ = ticks_;
+      }
+      if (stop_ || waiting_ > 0) {
+        debtMs_ = 0;  // unpaced while waited for: nothing to pay back
+        return true;
+      }
+      return debtMs_ < budget;
+    };
+    workCv_.wait(lock, settle);
+    stepStartMs_ = clock_.ms();
+    return;
+  }
+  endStep();
+  if (options_.stepsPerFrame <= 0) return;
+  std::unique_lock lock(mutex_);
+  const long long per = options_.stepsPerFrame;
+  // Nothing banked beyond the current frame's budget while idle, so no
+  // burst follows.
+  steps_ = std::max(steps_, (ticks_ - 1) * per);
+  workCv_.wait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
+  ++steps_;
+  stepStartMs_ = clock_.ms();
+}
+
+void AsyncKeyframes::frameTick() {
+  {
+    std::lock_guard lock(mutex_);
+    ++ticks_;
+  }
+  workCv_.notify_all();
+}
+
+void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
+  if (options_.workerNice != 0)  // best effort: a refused change only costs smoothness
+    (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)),
+                        options_.workerNice);
+  std::unique_ptr<gl::Context> context;
+  std::unique_ptr<GeometryRenderer> renderer;
+  LodBuilder builder;
+  {
+    Status s;
+    auto ctx = gl::createSecondHeadlessContext();  // current on this thread from here on
+    if (!ctx) {
+      s = Error{"keyframe worker: " + ctx.error().message};
+    } else {
+      context = std::move(*ctx);
+      auto r = GeometryRenderer::create(*scene, options_.render);
+      if (!r) {
+        s = Error{"keyframe worker: " + r.error().message};
+      } else {
+        renderer = std::move(*r);
+        if (options_.framesPerKeyframe > 0) {
+          renderer->setFlushEvery(options_.flushEveryTriangles, [this] {
+            glFinish();  // the piece's rasterisation is part of the step's time
+            pace();
+          });
+        } else {
+          renderer->setFlushEvery(options_.flushEveryTriangles, [this] { pace(); });
+        }
+      }
+    }
+    std::lock_guard lock(mutex_);
+    if (context) glRenderer_ = context->renderer();
+    *initStatus = s;
+    initDone_ = true;
+    if (!s.ok()) workerExited_ = true;
+  }
+  doneCv_.notify_all();
+  if (!renderer) return;
+
+  std::unique_lock lock(mutex_);
+  while (true) {
+    workCv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    if (stop_) break;
+    const int frame = queue_.front();
+    queue_.pop_front();
+    building_ = frame;
+    std::unique_ptr<CachedKeyframe> e;
+    if (!free_.empty()) {
+      e = std::move(free_.back());
+      free_.pop_back();
+    } else {
+      e = std::make_unique<CachedKeyframe>();
+    }
+    lock.unlock();
+    buildStepMs_ = 0;
+    stepStartMs_ = clock_.ms();  // idle time before is not the build's
+    pace();
+    const Status s = buildCachedKeyframe(*renderer, builder, options_.mesh, cameraOf_(frame), frame,
+                                         *e, [this] { pace(); });
+    endStep();
+    lastBuildMs_ = buildStepMs_;
+    lock.lock();
+    building_ = -1;
+    busyMs_ += buildStepMs_;
+    if (s.ok()) {
+      ++built_;
+      done_[frame] = std::move(e);
+    } else {
+      failed_[frame] = s.error();
+      free_.push_back(std::move(e));
+    }
+    doneCv_.notify_all();
+  }
+  workerExited_ = true;
+  lock.unlock();
+  doneCv_.notify_all();
+  // GL objects go with their context, on this thread.
+  renderer.reset();
+  context.reset();
+}
+
+int AsyncKeyframes::outstandingLocked() const {
+  return static_cast<int>(queue_.size() + done_.size()) + (building_ >= 0 ? 1 : 0);
+}
+
+bool AsyncKeyframes::knownLocked(int frame) const {
+  return building_ == frame || done_.count(frame) || failed_.count(frame) ||
+         std::find(queue_.begin(), queue_.end(), frame) != queue_.end();
+}
+
+bool AsyncKeyframes::request(int frame) {
+  {
+    std::lock_guard lock(mutex_);
+    if (knownLocked(frame)) return true;
+    if (workerExited_ || outstandingLocked() >= options_.maxQueued) return false;
+    queue_.push_back(frame);
+  }
+  workCv_.notify_all();
+  return true;
+}
+
+bool AsyncKeyframes::ready(int frame, std::size_t* bytes) const {
+  std::lock_guard lock(mutex_);
+  auto it = done_.find(frame);
+  if (it == done_.end()) return false;
+  if (bytes) *bytes = cachedKeyframeBytes(*it->second);
+  return true;
+}
+
+Status AsyncKeyframes::take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) {
+  Stopwatch sw;
+  bool waited = false;
+  std::unique_lock lock(mutex_);
+  if (!knownLocked(frame)) {
+    // Needed now and never requested: ahead of everything queued.
+    queue_.push_front(frame);
+    workCv_.notify_all();
+  }
+  auto finished = [&] { return done_.count(frame) || failed_.count(frame) || workerExited_; };
+  if (!finished()) {
+    waited = true;
+    ++waiting_;  // lifts pacing
+    workCv_.notify_all();
+    doneCv_.wait(lock, finished);
+    --waiting_;
+  }
+  if (waitedMs) *waitedMs = waited ? sw.ms() : 0.0;
+  if (auto f = failed_.find(frame); f != failed_.end()) {
+    Error e = f->second;
+    failed_.erase(f);
+    return e;
+  }
+  auto d = done_.find(frame);
+  if (d == done_.end())
+    return makeError("keyframe worker stopped before keyframe " + std::to_string(frame));
+  *out = std::move(d->second);
+  done_.erase(d);
+  return {};
+}
+
+void AsyncKeyframes::recycle(std::unique_ptr<CachedKeyframe> entry) {
+  if (!entry) return;
+  std::lock_guard lock(mutex_);
+  if (free_.size() < 4) free_.push_back(std::move(entry));
+}
+
+int AsyncKeyframes::built() const {
+  std::lock_guard lock(mutex_);
+  return built_;
+}
+
+double AsyncKeyframes::workerBusyMs() const {
+  std::lock_guard lock(mutex_);
+  return busyMs_;
+}
+
+}  // namespace hw::keyframe

@@ -1,0 +1,125 @@
+#pragma once
+// Keyframes rendered and meshed ahead of need on a worker thread with its own
+// OSMesa context, GeometryRenderer and LodBuilder, so an in-between frame does
+// not wait for one (issue #8 "stable frame rate"; Rail-Track's prefetch along
+// the path). The main thread only uploads what the worker hands over: no GL
+// object crosses contexts. Same build code as KeyframeCache's synchronous path
+// (buildCachedKeyframe), hence bit-identical keyframes.
+//
+// Mesa note (measured on Mesa 22.3 llvmpipe): every OSMesa context of a process
+// shares one pipe screen, so LP_NUM_THREADS is read once, at the first context,
+// and the worker's context adds no rasteriser threads; both contexts queue
+// their rasterisation on the same threads, in order.
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/result.h"
+#include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_cache.h"
+#include "scenes/scene.h"
+
+namespace hw::keyframe {
+
+struct AsyncKeyframeOptions {
+  RenderOptions render;  // as the main thread's renderer, for identical keyframes
+  // The worker's renderer flushes after about this many triangles (see
+  // GeometryRenderer::setFlushEvery; 0 = once per keyframe), so frames on the
+  // main context wait behind one piece of a keyframe on llvmpipe's shared
+  // rasteriser threads, and pacing can act between pieces.
+  std::size_t flushEveryTriangles = 8192;
+  MeshSpec mesh;
+  // Keyframes requested, being built or built and not yet taken; request()
+  // refuses more. ≥ 1.
+  int maxQueued = 3;
+  // Added to the worker thread's nice value (Linux, per thread; 0 = as the
+  // main thread). Only its own CPU work (binning, meshing) is lowered: the
+  // rasteriser threads are Mesa's and shared.
+  int workerNice = 0;
+  // Pacing: the worker takes at most this many steps (a piece of the render,
+  // see RenderOptions::flushEveryTriangles; the readback; the mesh build) per
+  // frameTick(), so its cost is spread over the frames instead of landing on
+  // one or two. Lifted while the main thread waits for a keyframe. 0 = as
+  // fast as it can.
+  int stepsPerFrame = 0;
+  // Time pacing instead (when > 0): the worker's steps may take, per
+  // frameTick(), budgetScale × (its last keyframe's build time) /
+  // framesPerKeyframe ms of wall time, each render piece finished (glFinish)
+  // so its rasterisation counts; a step that runs over is paid back by
+  // waiting the next frames. Spreads a keyframe evenly over the frames that
+  // precede its need. Lifted while the main thread waits.
+  double framesPerKeyframe = 0;
+  double budgetScale = 2.0;
+};
+
+class AsyncKeyframes final : public KeyframeProducer {
+ public:
+  // Starts the worker and waits until its context and renderer are up, so a
+  // context or scene-upload failure comes back here. `scene` is only read
+  // during create(); `cameraOf` is called on the worker thread (it must be
+  // safe to call concurrently with the main thread, e.g. CameraPath::cameraAt)
+  // and what it refers to must outlive this object. The main thread's GL
+  // entry-point table must come from OSMesa (not a GLFW window).
+  static Result<std::unique_ptr<AsyncKeyframes>> create(const scenes::Scene& scene,
+                                                        std::function<Camera(int)> cameraOf,
+                                                        const AsyncKeyframeOptions& options);
+  // Drops the queue, lets the keyframe in progress finish, joins the worker.
+  ~AsyncKeyframes() override;
+  AsyncKeyframes(const AsyncKeyframes&) = delete;
+  AsyncKeyframes& operator=(const AsyncKeyframes&) = delete;
+
+  bool request(int frame) override;
+  bool ready(int frame, std::size_t* bytes = nullptr) const override;
+  Status take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) override;
+  void recycle(std::unique_ptr<CachedKeyframe> entry) override;
+
+  // The main thread started a frame (pacing; see stepsPerFrame).
+  void frameTick();
+
+  int built() const;            // keyframes the worker finished
+  double workerBusyMs() const;  // time it spent building them (pacing waits excluded)
+  const std::string& glRenderer() const { return glRenderer_; }
+
+ private:
+  AsyncKeyframes() = default;
+  void run(const scenes::Scene* scene, Status* initStatus);
+  int outstandingLocked() const;
+  void pace();     // worker: wait for a step of the budget
+  void endStep();  // worker: account the step that just ended
+  bool knownLocked(int frame) const;
+
+  std::function<Camera(int)> cameraOf_;
+  AsyncKeyframeOptions options_;
+  std::string glRenderer_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable workCv_;  // worker: a job or stop
+  std::condition_variable doneCv_;  // main: a keyframe finished (or init done)
+  std::deque<int> queue_;           // requested, not started, in order
+  int building_ = -1;
+  std::map<int, std::unique_ptr<CachedKeyframe>> done_;
+  std::map<int, Error> failed_;
+  std::vector<std::unique_ptr<CachedKeyframe>> free_;  // recycled buffers
+  bool stop_ = false, initDone_ = false, workerExited_ = false;
+  int waiting_ = 0;                  // main thread blocked in take()
+  long long ticks_ = 0, steps_ = 0;  // pacing
+  // Time pacing (worker thread only, except ticks_): ms of steps run in the
+  // current frame window minus budgets granted, and the last build's cost.
+  double debtMs_ = 0, lastBuildMs_ = 0, stepStartMs_ = 0, buildStepMs_ = 0;
+  long long paidTicks_ = 0;
+  Stopwatch clock_;
+  int built_ = 0;
+  double busyMs_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace hw::keyframe

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# walk --async-keyframes: the same frames as the synchronous walk, byte for
+# byte, and the frame-time fields in the summary.
+# Usage: walk_async.sh HYBRIDWALK SOURCE_DIR
+source "$(dirname "$0")/lib.bash"
+for mode in sync async; do
+  extra=""
+  [ "$mode" = async ] && extra="--async-keyframes --keyframe-cache-mb 16"
+  # shellcheck disable=SC2086
+  "$hw" walk --scene indoor:20k --frames 23 --save-frames --strips 0 --no-reference $extra \
+    --out "$tmp/$mode" --quiet >"$tmp/$mode.stdout" 2>"$tmp/$mode.stderr"
+  check "$mode walk exits 0 ($(tail -2 "$tmp/$mode.stderr"))" test $? -eq 0
+done
+check "23 frames each" test "$(ls "$tmp/async/frames" | wc -l)" -eq 23
+same=1
+for f in "$tmp"/sync/frames/*.png; do
+  cmp -s "$f" "$tmp/async/frames/$(basename "$f")" || { echo "  differs: $(basename "$f")"; same=0; }
+done
+check "async frames identical to sync" test $same -eq 1
+r="$tmp/async/report.json"
+for key in '"frame_ms"' '"frame_ms_p95_over_median"' '"in_between_frame_ms"' \
+           '"in_between_frame_ms_p95_over_median"' '"keyframe_stalls"' '"keyframe_stall_ms"' \
+           '"keyframe_warmup_ms"' '"keyframe_cache_peak_mb"' '"keyframe_pacing"' '"keyframe_wait"'; do
+  check "report has $key" grep -q "$key" "$r"
+done
+check "acquisition is async" grep -q '"keyframe_acquisition": "async"' "$r"
+check "sync report says sync" grep -q '"keyframe_acquisition": "sync"' "$tmp/sync/report.json"
+check "stdout names stalls" grep -q "keyframe stalls" "$tmp/async.stdout"
+check "cache stayed within 16 MiB" python3 -c "
+import json,sys; s=json.load(open('$r'))['summary']; sys.exit(0 if s['keyframe_cache_peak_mb'] <= 16 else 1)"
+finish

@@ -1,0 +1,299 @@
+// Keyframes rendered ahead on a worker thread (keyframe/gl/async_keyframes.h):
+// a walk with them gives the same frames as the synchronous walk, the cache
+// keeps to its memory bound, and the worker is joined on shutdown and on
+// errors without hanging.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+
+#include "bench/walk.h"
+#include "gl_fixture.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/gl/async_keyframes.h"
+#include "keyframe/keyframe_cache.h"
+#include "scenes/loader.h"
+
+namespace hw {
+namespace {
+
+struct Indoor {
+  scenes::Scene scene;
+  scenes::CameraPath path;
+};
+
+Indoor smallIndoor(int size, int frames, int keyframeEvery) {
+  auto s = scenes::loadScene("indoor");
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  auto p = scenes::defaultPathFor("indoor");
+  EXPECT_TRUE(p.ok()) << p.error().message;
+  Indoor in{std::move(*s), std::move(*p)};
+  in.path.width = in.path.height = size;
+  in.path.frames = frames;
+  in.path.keyframeEvery = keyframeEvery;
+  return in;
+}
+
+std::string readBytes(const std::string& file) {
+  std::ifstream f(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+class AsyncKeyframesTest : public test::GlTest {};
+
+TEST_F(AsyncKeyframesTest, AsyncWalkGivesTheSameFramesAsTheSynchronousWalk) {
+  const Indoor in = smallIndoor(128, 23, 5);
+  const std::string dir = ::testing::TempDir() + "walk_async_test";
+  std::filesystem::remove_all(dir);
+  nlohmann::json reports[2];
+  for (int async = 0; async < 2; ++async) {
+    bench::WalkOptions o;
+    o.progress = false;
+    o.strips = 0;
+    o.saveFrames = true;
+    o.outDir = dir + (async ? "/async" : "/sync");
+    o.asyncKeyframes = async == 1;
+    o.keyframePrefetch = 2;
+    auto r = bench::runWalk(in.scene, "indoor", in.path, o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    reports[async] = r->report;
+  }
+  const auto& s0 = reports[0]["summary"];
+  const auto& s1 = reports[1]["summary"];
+  EXPECT_EQ(s0["keyframe_acquisition"], "sync");
+  EXPECT_EQ(s1["keyframe_acquisition"], "async");
+  EXPECT_EQ(s0["keyframes"], s1["keyframes"]);
+  EXPECT_EQ(s0["keyframe_stalls"], 0);
+  ASSERT_EQ(reports[0]["frames"].size(), 23u);
+  ASSERT_EQ(reports[1]["frames"].size(), 23u);
+  for (int i = 0; i < 23; ++i) {
+    const auto& f0 = reports[0]["frames"][i];
+    const auto& f1 = reports[1]["frames"][i];
+    EXPECT_EQ(f0["quads"], f1["quads"]) << "frame " << i;
+    EXPECT_EQ(f0["psnr"], f1["psnr"]) << "frame " << i;
+    EXPECT_TRUE(f1["ms"]["frame"].is_number());
+    char name[32];
+    std::snprintf(name, sizeof name, "/frames/%04d.png", i);
+    const std::string a = readBytes(dir + "/sync" + name), b = readBytes(dir + "/async" + name);
+    ASSERT_FALSE(a.empty()) << name;
+    EXPECT_TRUE(a == b) << "frame " << i << " differs between sync and async keyframes";
+  }
+  EXPECT_EQ(s1["frame_ms"]["count"], 23);
+}
+
+// Builds every keyframe along the path through prefetch() and get() and
+// checks the bound after each call.
+void walkCache(keyframe::KeyframeCache& cache, const keyframe::KeyframeSchedule& schedule,
+               std::size_t bound) {
+  for (int i = 0; i < schedule.frames; ++i) {
+    ASSERT_TRUE(cache.prefetch(i).ok());
+    EXPECT_LE(cache.bytes(), bound) << "after prefetch(" << i << ")";
+    const auto [k0, k1] = schedule.bracket(i);
+    auto a = cache.get(k0);
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    auto b = cache.get(k1);
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    // The first pointer is still valid: the second get() kept it.
+    EXPECT_EQ((*a)->frame, k0);
+    EXPECT_EQ((*b)->frame, k1);
+    EXPECT_TRUE(cache.contains(k0) && cache.contains(k1));
+    EXPECT_LE(cache.bytes(), bound) << "after get at frame " << i;
+  }
+  EXPECT_LE(cache.peakBytes(), bound);
+}
+
+TEST_F(AsyncKeyframesTest, CacheKeepsToItsMemoryBoundWithAndWithoutTheWorker) {
+  const Indoor in = smallIndoor(96, 31, 3);
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const keyframe::MeshSpec spec;
+  auto cameraOf = [&](int i) { return in.path.cameraAt(i); };
+  // One entry's size, to set a bound of about three entries.
+  keyframe::KeyframeCache probe(**r, spec, cameraOf);
+  ASSERT_TRUE(probe.get(0).ok());
+  const std::size_t one = probe.bytes();
+  ASSERT_GT(one, std::size_t{96 * 96 * 17});  // colour + z' + eye z + coverage at least
+  const std::size_t bound = one * 7 / 2;
+  const keyframe::KeyframeSchedule schedule{31, 3, {}};
+
+  keyframe::KeyframeCache sync(**r, spec, cameraOf, keyframe::CacheOptions{bound, 2});
+  sync.setSchedule(schedule);
+  walkCache(sync, schedule, bound);
+  EXPECT_GT(sync.evictions(), 0u);
+  EXPECT_EQ(sync.builds(), schedule.keyframes().size());  // forward walk: each built once
+
+  keyframe::AsyncKeyframeOptions ao;
+  ao.mesh = spec;
+  ao.maxQueued = 4;
+  auto w = keyframe::AsyncKeyframes::create(in.scene, cameraOf, ao);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  keyframe::KeyframeCache async(**r, spec, cameraOf, keyframe::CacheOptions{bound, 2});
+  async.setSchedule(schedule);
+  async.setProducer(w->get());
+  walkCache(async, schedule, bound);
+  EXPECT_GT(async.evictions(), 0u);
+  EXPECT_EQ((*w)->built(), static_cast<int>(schedule.keyframes().size()));
+}
+
+TEST_F(AsyncKeyframesTest, ABoundBelowTwoKeyframesStillHoldsTheBracket) {
+  const Indoor in = smallIndoor(64, 12, 4);
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  keyframe::KeyframeCache cache(
+      **r, {}, [&](int i) { return in.path.cameraAt(i); }, keyframe::CacheOptions{1, 2});
+  const keyframe::KeyframeSchedule schedule{12, 4, {}};
+  cache.setSchedule(schedule);
+  for (int i = 0; i < 12; ++i) {
+    ASSERT_TRUE(cache.prefetch(i).ok());
+    const auto [k0, k1] = schedule.bracket(i);
+    auto a = cache.get(k0);
+    auto b = cache.get(k1);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ((*a)->frame, k0);
+    EXPECT_LE(cache.entries(), 2u);
+  }
+}
+
+TEST_F(AsyncKeyframesTest, KeyframesFromTheWorkerEqualTheSynchronousOnes) {
+  const Indoor in = smallIndoor(96, 20, 5);
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto cameraOf = [&](int i) { return in.path.cameraAt(i); };
+  keyframe::AsyncKeyframeOptions ao;
+  auto w = keyframe::AsyncKeyframes::create(in.scene, cameraOf, ao);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  keyframe::LodBuilder builder;
+  for (int f : {0, 5, 10}) {
+    ASSERT_TRUE((*w)->request(f));
+    keyframe::CachedKeyframe mine;
+    ASSERT_TRUE(keyframe::buildCachedKeyframe(**r, builder, {}, cameraOf(f), f, mine).ok());
+    std::unique_ptr<keyframe::CachedKeyframe> theirs;
+    double waited = -1;
+    ASSERT_TRUE((*w)->take(f, &theirs, &waited).ok());
+    EXPECT_GE(waited, 0.0);
+    ASSERT_EQ(theirs->frame, f);
+    const auto& a = mine.keyframe;
+    const auto& b = theirs->keyframe;
+    ASSERT_EQ(a.colour.width(), b.colour.width());
+    int colourDiff = 0, depthDiff = 0;
+    for (int y = 0; y < a.colour.height(); ++y)
+      for (int x = 0; x < a.colour.width(); ++x) {
+        const Rgba8 p = a.colour(x, y), q = b.colour(x, y);
+        colourDiff += p.r != q.r || p.g != q.g || p.b != q.b || p.a != q.a;
+        depthDiff += a.zPrime(x, y) != b.zPrime(x, y);
+      }
+    EXPECT_EQ(colourDiff, 0) << "keyframe " << f;
+    EXPECT_EQ(depthDiff, 0) << "keyframe " << f;
+    ASSERT_EQ(mine.mesh.quads.size(), theirs->mesh.quads.size());
+    for (std::size_t q = 0; q < mine.mesh.quads.size(); ++q)
+      ASSERT_TRUE(mine.mesh.quads[q].world == theirs->mesh.quads[q].world) << "quad " << q;
+  }
+  EXPECT_EQ((*w)->built(), 3);
+}
+
+TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
+  const Indoor in = smallIndoor(64, 40, 5);
+  keyframe::AsyncKeyframeOptions ao;
+  ao.maxQueued = 2;
+  auto w = keyframe::AsyncKeyframes::create(
+      in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  EXPECT_TRUE((*w)->request(0));
+  EXPECT_TRUE((*w)->request(5));
+  EXPECT_TRUE((*w)->request(5));    // already queued
+  EXPECT_FALSE((*w)->request(10));  // full
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waited = 0;
+  ASSERT_TRUE((*w)->take(35, &e, &waited).ok());  // never requested: queued first
+  EXPECT_EQ(e->frame, 35);
+  EXPECT_GT(waited, 0.0);
+}
+
+TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
+  const Indoor in = smallIndoor(64, 20, 5);
+  for (int mode = 0; mode < 2; ++mode) {
+    SCOPED_TRACE(mode == 0 ? "steps pacing" : "time pacing");
+    keyframe::AsyncKeyframeOptions ao;
+    if (mode == 0) {
+      ao.stepsPerFrame = 1;
+    } else {
+      ao.framesPerKeyframe = 1000;  // a tiny budget per frame
+      ao.budgetScale = 1;
+    }
+    ao.flushEveryTriangles = 1000;  // many steps per keyframe
+    auto w = keyframe::AsyncKeyframes::create(
+        in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    // Waiting lifts the pacing (no deadlock), for the keyframe waited for.
+    std::unique_ptr<keyframe::CachedKeyframe> e;
+    double waited = 0;
+    ASSERT_TRUE((*w)->take(0, &e, &waited).ok());
+    EXPECT_GT(waited, 0.0);
+    ASSERT_TRUE((*w)->request(5));
+    // One frame's budget is not a whole keyframe.
+    (*w)->frameTick();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_FALSE((*w)->ready(5));
+    for (int t = 0; t < 20000 && !(*w)->ready(5); ++t) {
+      (*w)->frameTick();
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    EXPECT_TRUE((*w)->ready(5));  // ticks alone get it done
+  }
+}
+
+TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
+  const Indoor in = smallIndoor(128, 100, 5);
+  keyframe::AsyncKeyframeOptions ao;
+  ao.maxQueued = 8;
+  for (int round = 0; round < 3; ++round) {
+    auto w = keyframe::AsyncKeyframes::create(
+        in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    for (int f = 0; f < 40; f += 5) EXPECT_TRUE((*w)->request(f));
+    // Falls out of scope with keyframes queued and one being built: the
+    // destructor must return (a hang fails by CTest timeout).
+  }
+}
+
+TEST_F(AsyncKeyframesTest, ABuildErrorComesBackForItsFrameAndTheWorkerStillJoins) {
+  const Indoor in = smallIndoor(64, 20, 5);
+  auto cameraOf = [&](int i) {
+    Camera c = in.path.cameraAt(i);
+    if (i == 10) c.width = 0;  // the renderer refuses a 0-pixel image
+    return c;
+  };
+  auto w = keyframe::AsyncKeyframes::create(in.scene, cameraOf, {});
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  ASSERT_TRUE((*w)->request(5));
+  ASSERT_TRUE((*w)->request(10));
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waited = 0;
+  const Status s = (*w)->take(10, &e, &waited);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("0x"), std::string::npos) << s.error().message;
+  EXPECT_TRUE((*w)->take(5, &e, &waited).ok());  // the others are unaffected
+}
+
+TEST_F(AsyncKeyframesTest, AWorkerContextFailureIsAnErrorFromCreate) {
+  const Indoor in = smallIndoor(64, 20, 5);
+  ::setenv("HW_GL_FAIL", "1", 1);
+  auto w =
+      keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, {});
+  ::unsetenv("HW_GL_FAIL");
+  ASSERT_FALSE(w.ok());
+  EXPECT_NE(w.error().message.find("keyframe worker"), std::string::npos) << w.error().message;
+  // The main context still works afterwards.
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  keyframe::Keyframe k;
+  EXPECT_TRUE((*r)->renderKeyframe(in.path.cameraAt(0), k).ok());
+}
+
+}  // namespace
+}  // namespace hw
