@@ -54,5 +54,7 @@ struct QuadMesh {
 // and 1/z is affine on a plane, so 1/z is interpolated bilinearly from the
 // corners (exact for unclamped corners). `camera` is the keyframe's.
 glm::dvec3 quadPointAt(const Quad& quad, const Camera& camera, double u, double v);
+// Its depth along the keyframe's W at (u, v) (the 1/z bilinear above).
+double quadEyeZAt(const Quad& quad, double u, double v);
 
 }  // namespace hw::keyframe

@@ -291,11 +291,7 @@ class GlWarper final : public Warper {
     drawSource(src, target, 1.0f);
     glFinish();
     const double drawMs = sw.lap();
-    fbo_.readColour(out.colour);
-    if (options_.writeEyeZ) fbo_.readFloatChannel(out.eyeZ);
-    else out.eyeZ.resize(0, 0);
-    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
-      out.coverage.resize(target.width, target.height);
+    readLayer(fbo_, target, out);
     const std::size_t n = out.colour.size();
     const Rgba8* c = out.colour.data();
     std::uint8_t* cov = out.coverage.data();
@@ -356,11 +352,7 @@ class GlWarper final : public Warper {
     glDisable(GL_STENCIL_TEST);
     glFinish();
     const double bgMs = sw.lap();
-    pairFbo_.readColour(out.colour);
-    if (options_.writeEyeZ) pairFbo_.readFloatChannel(out.eyeZ);
-    else out.eyeZ.resize(0, 0);
-    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
-      out.coverage.resize(target.width, target.height);
+    readLayer(pairFbo_, target, out);
     const std::size_t n = out.colour.size();
     Rgba8* c = out.colour.data();
     std::uint8_t* cov = out.coverage.data();
@@ -403,21 +395,11 @@ class GlWarper final : public Warper {
     for (int y = q.rect.y0; y < q.rect.y1; y += std::max(1, cell / 2))
       for (int x = q.rect.x0; x < q.rect.x1; x += std::max(1, cell / 2)) {
         if (!kf.covered(x, y)) continue;
-        const double zPlane = planeEyeZ(q, x + 0.5, y + 0.5);
+        const double zPlane = keyframe::quadEyeZAt(q, x + 0.5, y + 0.5);
         const double z = kf.eyeZ(x, y);
         if (std::abs(z - zPlane) > options_.subdivideResidual * z) return nx * ny;
       }
     return 1;
-  }
-
-  // Eye z on the leaf's plane at keyframe pixel position (u, v): 1/z is
-  // bilinear over the quad (quadPointAt).
-  static double planeEyeZ(const keyframe::Quad& q, double u, double v) {
-    const double s = (u - q.pixel[0].x) / (q.pixel[1].x - q.pixel[0].x);
-    const double t = (v - q.pixel[0].y) / (q.pixel[3].y - q.pixel[0].y);
-    const double inv = (1 - s) * (1 - t) / q.eyeZ[0] + s * (1 - t) / q.eyeZ[1] +
-                       s * t / q.eyeZ[2] + (1 - s) * t / q.eyeZ[3];
-    return 1.0 / inv;
   }
 
   // Cuts the leaf into a grid of cells at integer pixel edges. Corners on the
@@ -439,7 +421,7 @@ class GlWarper final : public Warper {
       for (int i = 0; i <= nx; ++i) {
         const int u = gridX_[static_cast<std::size_t>(i)], v = gridY_[static_cast<std::size_t>(j)];
         // Leaf corners keep their recovered values exactly.
-        double z = planeEyeZ(q, u, v);
+        double z = keyframe::quadEyeZAt(q, u, v);
         const bool border = i == 0 || j == 0 || i == nx || j == ny;
         if (!border && options_.subdivideFromDepth && kf.covered(u - 1, v - 1) &&
             kf.covered(u, v - 1) && kf.covered(u - 1, v) && kf.covered(u, v)) {
@@ -469,6 +451,15 @@ class GlWarper final : public Warper {
         const double z[4] = {gridZ_[c[0]], gridZ_[c[1]], gridZ_[c[2]], gridZ_[c[3]]};
         emit(w, px, z);
       }
+  }
+
+  // Colour (+ eye z when written) into `out`, coverage sized for the caller to fill.
+  void readLayer(gl::Framebuffer& fbo, const Camera& target, Layer& out) {
+    fbo.readColour(out.colour);
+    if (options_.writeEyeZ) fbo.readFloatChannel(out.eyeZ);
+    else out.eyeZ.resize(0, 0);
+    if (out.coverage.width() != target.width || out.coverage.height() != target.height)
+      out.coverage.resize(target.width, target.height);
   }
 
   std::vector<int> gridX_, gridY_;
