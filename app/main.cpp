@@ -653,6 +653,7 @@ int main(int argc, char** argv) {
   Common viewC;
   app::ViewerOptions vo;
   std::string viewTau = "2^11";
+  std::string viewKeyframes;
   bool viewGeometry = false, viewNoHud = false;
   auto* viewCmd = app.add_subcommand(
       "view", "Interactive viewer (GLFW window; needs a display, e.g. xvfb-run): fly with the "
@@ -676,6 +677,19 @@ int main(int argc, char** argv) {
   viewCmd->add_option("--keys", vo.keys, "Keys typed before the first frame, e.g. 'so'");
   viewCmd->add_flag("--geometry", viewGeometry, "Start in geometry mode instead of hybrid");
   viewCmd->add_flag("--no-hud", viewNoHud, "No on-screen text");
+  viewCmd->add_option("--keyframes", viewKeyframes,
+                      "Warp keyframes baked by 'hybridwalk bake' from this scene and path instead of "
+                      "rendering them while near the baked path (with --play, exactly the walk's "
+                      "keyframe pairs); the window takes the database's size");
+
+  // compare
+  std::string cmpA, cmpB, cmpDiff;
+  auto* cmpCmd = app.add_subcommand(
+      "compare", "Compare two PNG images of the same size (e.g. a viewer screenshot and a walk "
+                 "frame): PSNR (dB, RGB), SSIM, pixels that differ, largest channel difference");
+  cmpCmd->add_option("a", cmpA, "First PNG")->required();
+  cmpCmd->add_option("b", cmpB, "Second PNG")->required();
+  cmpCmd->add_option("--diff", cmpDiff, "Write |a - b| x4 per channel to this PNG");
 
   // stress
   std::string stressOut = "out/stress";
@@ -821,7 +835,63 @@ int main(int argc, char** argv) {
     if (!s) return fail(s.error().message);
     auto p = scenes::defaultPathFor(viewC.scene);
     if (!p) return fail(p.error().message);
+    if (!viewKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
+      auto db = keyframe::KeyframeDb::open(viewKeyframes);
+      if (!db) return fail(db.error().message);
+      scenes::CameraPath played = *p;
+      if (!viewC.path.empty()) {
+        auto pp = scenes::loadCameraPath(viewC.path);
+        if (!pp) return fail(pp.error().message);
+        played = std::move(*pp);
+      }
+      for (const char* opt : {"--width", "--height"}) {
+        const int want = opt[2] == 'w' ? played.width : played.height;
+        const int given = opt[2] == 'w' ? vo.width : vo.height;
+        if (viewCmd->count(opt) > 0 && given != want)
+          return fail(std::string(opt) + " " + std::to_string(given) + ": the database " +
+                      viewKeyframes + " holds " + std::to_string(played.width) + "x" +
+                      std::to_string(played.height) + " keyframes (omit " + opt +
+                      " to take the database's size)");
+      }
+      vo.width = played.width;
+      vo.height = played.height;
+      // Scene, path and size must match; the LOD options, depth mode and frame
+      // count are the database's own (they only decide what it holds).
+      if (auto st = db->checkMatches(
+              bench::bakeProvenance(viewC.scene, s->triangleCount(), played, played.frames, {},
+                                    kDefaultDepthMode),
+              {"scene", "triangles", "path_hash", "resolution"});
+          !st)
+        return fail(st.error().message);
+      vo.keyframeDb = std::make_shared<keyframe::KeyframeDb>(std::move(*db));
+    }
     return app::runViewer(*s, *p, vo);
+  }
+
+  if (cmpCmd->parsed()) {
+    auto ia = readPng(cmpA);
+    if (!ia) return fail(ia.error().message);
+    auto ib = readPng(cmpB);
+    if (!ib) return fail(ib.error().message);
+    if (ia->width() != ib->width() || ia->height() != ib->height())
+      return fail("compare: " + cmpA + " is " + std::to_string(ia->width()) + "x" +
+                  std::to_string(ia->height()) + ", " + cmpB + " is " + std::to_string(ib->width()) +
+                  "x" + std::to_string(ib->height()) + " (expected the same size)");
+    long differing = 0;
+    int maxDiff = 0;
+    for (int y = 0; y < ia->height(); ++y)
+      for (int x = 0; x < ia->width(); ++x) {
+        const Rgba8 p = ia->at(x, y), q = ib->at(x, y);
+        const int d = std::max({std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)});
+        differing += d > 0;
+        maxDiff = std::max(maxDiff, d);
+      }
+    if (!cmpDiff.empty())
+      if (auto st = writePng(cmpDiff, diffImage(*ia, *ib)); !st) return fail(st.error().message);
+    std::printf("psnr_db %.2f ssim %.4f differing_pixels %ld of %ld max_channel_diff %d\n",
+                psnrCapped(*ia, *ib), ssim(*ia, *ib), differing,
+                static_cast<long>(ia->width()) * ia->height(), maxDiff);
+    return 0;
   }
 
   if (exportCmd->parsed()) {

@@ -18,9 +18,11 @@
 //     (Plate I-A) in a corner, m hole mask (red: pixels neither keyframe
 //     covers), p PSNR of the current view against the geometry reference.
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "core/camera.h"
+#include "keyframe/keyframe_db.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -51,6 +53,16 @@ struct ViewerOptions {
   // between its keyframes (arc length / frames × keyframe_every).
   double keyframeDistance = 0;
   double keyframeAngleDeg = 15;
+  // Baked keyframes (`view --keyframes DB`, docs/keyframe-db.md). Set, the
+  // viewer warps the database's keyframes instead of rendering its own while
+  // one is within reach: playing the baked path, exactly the pair the walk
+  // uses for that frame (so the frames are `walk --keyframes DB`'s); flying,
+  // the two nearest by pose distance (the next one along the path is read
+  // ahead on a background thread). Farther than that from every baked
+  // keyframe, or at another window size, keyframes are rendered live as
+  // without a database. The caller checks that the database was baked from
+  // this scene and the play/default path, at the window's size.
+  std::shared_ptr<const keyframe::KeyframeDb> keyframeDb;
   // Test hook: called with the window's GL context current, after the last
   // frame and before the window closes, with that frame's camera (whose size
   // is the window's framebuffer size).

@@ -457,7 +457,8 @@ std::vector<int> KeyframeDb::keyframeFrames() const {
   return f;
 }
 
-Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want) const {
+Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want,
+                                const std::vector<std::string>& fields) const {
   const json& have = index_["baked_from"];
   const json expected = provenanceJson(want);
   auto mismatch = [&](const std::string& key, const json* h, const json& v) {
@@ -469,6 +470,7 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want) const {
   for (const char* k :
        {"scene", "triangles", "path_hash", "frames", "resolution", "depth_mode", "mesh"}) {
     const std::string key = k;
+    if (!fields.empty() && std::find(fields.begin(), fields.end(), key) == fields.end()) continue;
     const json& value = expected[key];
     const json* h = have.contains(key) ? &have[key] : nullptr;
     if (value.is_object() && h && h->is_object()) {  // name the sub-field (mesh.tau)

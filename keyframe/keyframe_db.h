@@ -74,7 +74,11 @@ class KeyframeDb {
   static Result<KeyframeDb> open(const std::string& dir);
   // Error naming the first field that differs (scene, path, frames, size,
   // depth mode, mesh options), with the database's value and the expected one.
-  Status checkMatches(const KeyframeDbProvenance& expected) const;
+  // `fields` (provenance JSON keys: "scene", "triangles", "path_hash",
+  // "frames", "resolution", "depth_mode", "mesh") limits the comparison;
+  // empty compares all.
+  Status checkMatches(const KeyframeDbProvenance& expected,
+                      const std::vector<std::string>& fields = {}) const;
   const std::vector<KeyframeDbEntry>& entries() const { return entries_; }
   std::vector<int> keyframeFrames() const;
   const nlohmann::json& index() const { return index_; }

@@ -26,6 +26,8 @@
 #include "core/timer.h"
 #include "gapfill/compose.h"
 #include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_cache.h"
+#include "keyframe/keyframe_db.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "warp/warper.h"
@@ -145,7 +147,8 @@ void setFloatMatrix(int location, const glm::dmat4& m) {
 // quads' outlines (GL_LINES, world space) for the wireframe view.
 struct Slot {
   bool valid = false;
-  long serial = 0;  // build order; the highest is the newest
+  long serial = 0;    // build order; the highest is the newest
+  int dbFrame = -1;   // the baked keyframe of this path frame; -1: rendered live
   keyframe::Keyframe kf;
   keyframe::QuadMesh mesh;
   std::unique_ptr<warp::WarpSource> source;
@@ -154,6 +157,7 @@ struct Slot {
 };
 
 struct KeyframeStats {
+  bool fromDb = false;  // read from the keyframe database (renderMs = read ms)
   double renderMs = 0, lodMs = 0, uploadMs = 0;
   int quads = 0;
 };
@@ -162,9 +166,10 @@ struct FrameStats {
   bool hybrid = true;
   bool direct = false;  // hybrid frame shown straight from a keyframe at this camera
   bool builtKeyframe = false;
+  bool readKeyframe = false;  // one read from the keyframe database this frame
   double geometryMs = 0;
   std::size_t trianglesDrawn = 0;
-  double keyframeMs = 0;  // keyframe build during this frame (0 if none)
+  double keyframeMs = 0;  // keyframe build or read during this frame (0 if none)
   double warpAMs = 0, warpBMs = 0, composeMs = 0;
   int quadsA = 0, quadsB = 0, layers = 0;
   double holesBefore = 0, holesAfter = 0;
@@ -201,6 +206,10 @@ class Viewer {
   Status renderFrame();
   Status renderHybrid(FrameStats& st);
   Status buildKeyframe(Slot& slot, const Camera& cam);
+  Status readKeyframe(Slot& slot, int frame);
+  Status finishSlot(Slot& slot);
+  Status liveKeyframes(FrameStats& st, int& a, int& b);
+  Status bakedKeyframes(FrameStats& st, int& a, int& b, bool& used);
   Camera aheadCamera() const;
   Status computePsnr();
   void drawWindow();
@@ -247,6 +256,8 @@ class Viewer {
   bool play_ = false;
   std::vector<Camera> playCams_;
   int playIndex_ = 0;
+  int playFrame_ = -1;           // frame of the play path shown now; -1: not playing it
+  bool playingBakedPath_ = false;  // playCams_ is the path the database was baked from
   bool recording_ = false;
   scenes::CameraPath recorded_;
   Camera lastRecordedKey_;
@@ -280,7 +291,14 @@ class Viewer {
   double psnrUntil_ = 0;
   double frameMsSmoothed_ = 0;
   long keyframesBuilt_ = 0;
+  long keyframesRead_ = 0;
   long frameIndex_ = 0;
+  // Baked keyframes (ViewerOptions::keyframeDb).
+  std::vector<int> dbFrames_;     // their path frames, ascending
+  std::vector<Camera> dbCams_;    // their cameras (the baked path's)
+  keyframe::KeyframeCache::Source dbSource_;
+  keyframe::CachedKeyframe dbScratch_;
+  int onBakedPath_ = -1;  // last frame's state (1 baked, 0 live, -1 none yet) for messages
   Stopwatch clock_;
 };
 
@@ -389,6 +407,19 @@ Status Viewer::setUp() {
 
   // Session camera: fov and planes of the path; home at its first camera.
   setPlayPath(path);
+  if (opt_.keyframeDb) {
+    playingBakedPath_ = true;
+    for (int f : opt_.keyframeDb->keyframeFrames()) {
+      if (f < 0 || f >= static_cast<int>(playCams_.size()))
+        return makeError(opt_.keyframeDb->dir() + ": keyframe of frame " + std::to_string(f) +
+                         " is outside the play path's " + std::to_string(playCams_.size()) +
+                         " frames (bake the database from this path)");
+      dbFrames_.push_back(f);
+      dbCams_.push_back(playCams_[static_cast<std::size_t>(f)]);
+    }
+    if (dbFrames_.empty()) return makeError(opt_.keyframeDb->dir() + ": the database has no keyframes");
+    dbSource_ = keyframe::makeKeyframeDbSource(opt_.keyframeDb, /*prefetch=*/true);
+  }
   base_ = playCams_.empty() ? Camera{} : playCams_.front();
   home_ = base_;
   const glm::dvec3 diag = glm::dvec3(scene_.boundsMax) - glm::dvec3(scene_.boundsMin);
@@ -413,12 +444,16 @@ Status Viewer::setUp() {
   HW_TRY(resize(fw, fh));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
   cam_ = play_ ? sized(playCams_.front()) : cameraFromPose();
+  playFrame_ = play_ ? 0 : -1;
   prevCam_ = cam_;
   std::printf(
       "hybridwalk view: %s, %zu triangles, %dx%d, tau %g; keyframe every %.3g units or "
       "%.3g deg. Press h for help.\n",
       opt_.sceneLabel.empty() ? "scene" : opt_.sceneLabel.c_str(), scene_.triangleCount(), width_,
       height_, opt_.tau, kfDistance_, opt_.keyframeAngleDeg);
+  if (opt_.keyframeDb)
+    std::printf("hybridwalk view: %zu baked keyframes from %s (used near the baked path)\n",
+                dbFrames_.size(), opt_.keyframeDb->dir().c_str());
   std::fflush(stdout);
   return {};
 }
@@ -463,6 +498,7 @@ Status Viewer::resize(int w, int h) {
 }
 
 void Viewer::setPlayPath(const scenes::CameraPath& path) {
+  playingBakedPath_ = false;
   playCams_.clear();
   playCams_.reserve(static_cast<std::size_t>(path.frames));
   if (!path.keys.empty())
@@ -654,8 +690,10 @@ void Viewer::updateCamera(double dt) {
     poseFromCamera(cam_);
   }
   prevCam_ = cam_;
+  playFrame_ = -1;
   if (play_ && !playCams_.empty()) {
     cam_ = sized(playCams_[static_cast<std::size_t>(playIndex_)]);
+    playFrame_ = playIndex_;
     playIndex_ = (playIndex_ + 1) % static_cast<int>(playCams_.size());
   } else {
     const bool fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
@@ -719,9 +757,34 @@ Camera Viewer::aheadCamera() const {
 Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
   Stopwatch sw;
   HW_TRY(renderer_->renderKeyframe(cam, slot.kf));
+  lastKeyframe_.fromDb = false;
   lastKeyframe_.renderMs = sw.lap();
   HW_TRY(lod_.build(slot.kf, lodOptions_, &slot.mesh));
   lastKeyframe_.lodMs = sw.lap();
+  slot.dbFrame = -1;
+  HW_TRY(finishSlot(slot));
+  ++keyframesBuilt_;
+  return {};
+}
+
+Status Viewer::readKeyframe(Slot& slot, int frame) {
+  Stopwatch sw;
+  slot.valid = false;
+  HW_TRY(dbSource_(frame, dbScratch_));
+  lastKeyframe_.fromDb = true;
+  lastKeyframe_.renderMs = sw.lap();  // wait + read + checksum + decode
+  lastKeyframe_.lodMs = 0;
+  std::swap(slot.kf, dbScratch_.keyframe);
+  std::swap(slot.mesh, dbScratch_.mesh);
+  slot.dbFrame = frame;
+  HW_TRY(finishSlot(slot));
+  ++keyframesRead_;
+  return {};
+}
+
+// GPU copy and wireframe lines of a slot whose keyframe and mesh are set.
+Status Viewer::finishSlot(Slot& slot) {
+  Stopwatch sw;
   slot.source.reset();
   auto src = warper_->upload(slot.kf, slot.mesh);
   if (!src) return src.error();
@@ -745,15 +808,68 @@ Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
   lastKeyframe_.quads = slot.mesh.stats.quads;
   slot.valid = true;
   slot.serial = ++serial_;
-  ++keyframesBuilt_;
   return {};
 }
 
-Status Viewer::renderHybrid(FrameStats& st) {
-  // Keyframe policy: keep two keyframes, the last one and one rendered ahead
-  // along the motion once the viewer has passed the newest; re-render where
-  // the viewer stands when no keyframe is close (first frame, jumps, turns
-  // the prediction missed).
+// Baked keyframes for this frame: playing the baked path, the walk's pair for
+// the frame (KeyframeSchedule::bracket over the database's keyframes, the
+// earlier one first as in the walk); otherwise the two nearest by pose
+// distance. `used` false: none is within kLost (or the window is not the
+// database's size), so the caller renders keyframes live.
+Status Viewer::bakedKeyframes(FrameStats& st, int& a, int& b, bool& used) {
+  used = false;
+  if (!opt_.keyframeDb || dbCams_.front().width != width_ || dbCams_.front().height != height_)
+    return {};
+  int want0 = -1, want1 = -1;
+  if (play_ && playingBakedPath_ && playFrame_ >= 0 && playFrame_ <= dbFrames_.back()) {
+    const auto it = std::lower_bound(dbFrames_.begin(), dbFrames_.end(), playFrame_);
+    want1 = *it;
+    want0 = *it == playFrame_ ? want1 : *(it - 1);
+  } else {
+    double s0 = 1e300, s1 = 1e300;
+    for (std::size_t i = 0; i < dbCams_.size(); ++i) {
+      const double si = poseDistance(dbCams_[i], cam_);
+      if (si < s0) {
+        s1 = s0, want1 = want0;
+        s0 = si, want0 = dbFrames_[i];
+      } else if (si < s1) {
+        s1 = si, want1 = dbFrames_[i];
+      }
+    }
+    if (s0 > kLost) return {};
+    if (s1 >= kUseless) want1 = -1;
+  }
+  if (want1 == want0) want1 = -1;
+  auto slotOf = [&](int frame) {
+    for (int i = 0; i < 2; ++i)
+      if (slots_[static_cast<std::size_t>(i)].valid &&
+          slots_[static_cast<std::size_t>(i)].dbFrame == frame)
+        return i;
+    return -1;
+  };
+  Stopwatch kt;
+  a = slotOf(want0);
+  b = want1 >= 0 ? slotOf(want1) : -1;
+  if (a < 0) {
+    a = b >= 0 ? 1 - b : 0;
+    HW_TRY(readKeyframe(slots_[static_cast<std::size_t>(a)], want0));
+    st.readKeyframe = true;
+  }
+  if (want1 >= 0 && b < 0) {
+    b = 1 - a;
+    HW_TRY(readKeyframe(slots_[static_cast<std::size_t>(b)], want1));
+    st.readKeyframe = true;
+  }
+  if (st.readKeyframe) st.keyframeMs = kt.ms();
+  used = true;
+  return {};
+}
+
+// Keyframes rendered by the viewer itself: keep two, the last one and one
+// rendered ahead along the motion once the viewer has passed the newest;
+// re-render where the viewer stands when no keyframe is close (first frame,
+// jumps, turns the prediction missed).
+Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
   int nearest = -1, newest = -1, useful = 0;
   double sNearest = 1e300;
   std::array<double, 2> s{1e300, 1e300};
@@ -785,7 +901,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
   }
   if (st.builtKeyframe) st.keyframeMs = kt.ms();
   // Re-evaluate after a build.
-  int a = -1, b = -1;
+  a = -1, b = -1;
   newest = -1;
   for (int i = 0; i < 2; ++i) {
     const Slot& sl = slots_[static_cast<std::size_t>(i)];
@@ -803,6 +919,20 @@ Status Viewer::renderHybrid(FrameStats& st) {
     newestSerialPrev_ = slots_[static_cast<std::size_t>(newest)].serial;
   }
   HW_CHECK(a >= 0);  // a keyframe at the current camera was built if none was close
+  return {};
+}
+
+Status Viewer::renderHybrid(FrameStats& st) {
+  int a = -1, b = -1;
+  bool baked = false;
+  HW_TRY(bakedKeyframes(st, a, b, baked));
+  if (opt_.keyframeDb && (baked ? 1 : 0) != onBakedPath_) {
+    if (onBakedPath_ >= 0)
+      message(baked ? "back on the baked path: keyframes read from the database"
+                    : "off the baked path: keyframes rendered live");
+    onBakedPath_ = baked ? 1 : 0;
+  }
+  if (!baked) HW_TRY(liveKeyframes(st, a, b));
   if (b >= 0) {
     // The nearer eye is the foreground (paper §2.2 (i)), with its tie-break.
     const int pick =
@@ -922,12 +1052,13 @@ void Viewer::drawHud() {
             p, room,
             "\nwarp A %.1f ms  warp B %.1f ms  compose %.1f ms%s\n"
             "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
-            "last keyframe: render %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built%s\n"
+            "last keyframe: %s %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built, %ld read%s\n"
             "tau %g  keyframe every %.2f units / %.0f deg",
             s.warpAMs, s.warpBMs, s.composeMs, s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
             s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
-            lastKeyframe_.renderMs, lastKeyframe_.lodMs, lastKeyframe_.uploadMs,
-            lastKeyframe_.quads, keyframesBuilt_, s.builtKeyframe ? " (one this frame)" : "",
+            lastKeyframe_.fromDb ? "read from the database" : "render", lastKeyframe_.renderMs,
+            lastKeyframe_.lodMs, lastKeyframe_.uploadMs, lastKeyframe_.quads, keyframesBuilt_,
+            keyframesRead_, s.builtKeyframe || s.readKeyframe ? " (one this frame)" : "",
             opt_.tau, kfDistance_, kfAngle_ * 180 / kPi);
       } else {
         std::snprintf(p, room, "\ngeometry %.1f ms  %zu of %zu triangles drawn", s.geometryMs,
@@ -1127,8 +1258,8 @@ Status Viewer::run() {
     if (opt_.onExit) opt_.onExit(cam_);
   }
   if (recording_) toggleRecording();  // save what was recorded
-  std::printf("hybridwalk view: %ld frames, %ld keyframes built; last frame: %s\n", frameIndex_,
-              keyframesBuilt_,
+  std::printf("hybridwalk view: %ld frames, %ld keyframes built, %ld read from a database; last frame: %s\n",
+              frameIndex_, keyframesBuilt_, keyframesRead_,
               !stats_.hybrid       ? "geometry"
               : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
               : stats_.layers == 2 ? "hybrid, two keyframes warped"

@@ -7,7 +7,7 @@ artifacts=$(dirname "$(dirname "$hw")")/artifacts
 mkdir -p "$artifacts"
 "$hw" sweep --scene indoor:20k --frames 11 --tau 2^11,2^15 --five-point-only --no-variants \
   --out "$tmp/s" --quiet >"$tmp/out" 2>&1
-check "sweep exits 0" test $? -eq 0
+rc=$?; check "sweep exits 0" test $rc -eq 0
 check "chromium is installed (scripts/setup.sh)" command -v chromium
 shot="$artifacts/sweep_index.png"
 rm -f "$shot"

@@ -6,7 +6,7 @@ source "$(dirname "$0")/lib.bash"
 is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
 "$hw" sweep --scene indoor:20k --frames 11 --tau 2^8,2^11,2^15 --out "$tmp/s" --quiet >"$tmp/out" 2>&1
-check "sweep exits 0 ($(tail -2 "$tmp/out"))" test $? -eq 0
+rc=$?; check "sweep exits 0 ($(tail -2 "$tmp/out"))" test $rc -eq 0
 check "sweep.json" test -s "$tmp/s/sweep.json"
 # 3 taus x (2 criteria + 3 variants) + tile baselines (1..3, deduplicated) + per-pixel.
 rows=$(($(wc -l <"$tmp/s/sweep.csv") - 1))
@@ -22,7 +22,7 @@ check "3 overlays" test "$(ls "$tmp/s/overlays" | wc -l)" -eq 3
 check "index.html links the plot" grep -q 'pareto.png' "$tmp/s/index.html"
 
 "$hw" bench --quick --sizes 20k,40k --quiet --out "$tmp/b" >"$tmp/bout" 2>&1
-check "bench exits 0 ($(tail -2 "$tmp/bout"))" test $? -eq 0
+rc=$?; check "bench exits 0 ($(tail -2 "$tmp/bout"))" test $rc -eq 0
 check "bench.json" grep -q '"complexity"' "$tmp/b/bench.json"
 for p in complexity trace spacing; do check "$p.png" is_png "$tmp/b/$p.png"; done
 check "complexity.csv rows" test "$(($(wc -l <"$tmp/b/complexity.csv") - 1))" -eq 8

@@ -9,7 +9,7 @@ for mode in sync async; do
   # shellcheck disable=SC2086
   "$hw" walk --scene indoor:20k --frames 23 --save-frames --strips 0 --no-reference $extra \
     --out "$tmp/$mode" --quiet >"$tmp/$mode.stdout" 2>"$tmp/$mode.stderr"
-  check "$mode walk exits 0 ($(tail -2 "$tmp/$mode.stderr"))" test $? -eq 0
+  rc=$?; check "$mode walk exits 0 ($(tail -2 "$tmp/$mode.stderr"))" test $rc -eq 0
 done
 check "23 frames each" test "$(ls "$tmp/async/frames" | wc -l)" -eq 23
 same=1

@@ -21,15 +21,15 @@ check "no temporary files left" test -z "$(find "$tmp/w" -name '*.tmp-*')"
 check "stdout summary" grep -q "in-between PSNR" "$tmp/stdout"
 # render and lod commands
 "$hw" render --scene outdoor:20k --frames 3 --out "$tmp/r" >"$tmp/rout" 2>&1
-check "render exits 0" test $? -eq 0
+rc=$?; check "render exits 0" test $rc -eq 0
 check "render wrote 3 frames" test "$(ls "$tmp/r"/*.png | wc -l)" -eq 3
 check "render.json" grep -q '"triangles"' "$tmp/r/render.json"
 "$hw" lod --scene indoor:20k --frame 0 --tau 2^11 --out "$tmp/l/overlay.png" >"$tmp/lout" 2>&1
-check "lod exits 0" test $? -eq 0
+rc=$?; check "lod exits 0" test $rc -eq 0
 check "lod overlay" test -s "$tmp/l/overlay.png"
 check "lod stats" grep -q '"quads"' "$tmp/l/overlay.json"
 "$hw" export-keyframes --scene indoor:20k --frames 12 --quiet --out "$tmp/e" >"$tmp/eout" 2>&1
-check "export exits 0 ($(tail -2 "$tmp/eout"))" test $? -eq 0
+rc=$?; check "export exits 0 ($(tail -2 "$tmp/eout"))" test $rc -eq 0
 check "export cameras.json" grep -q '"world_from_camera"' "$tmp/e/cameras.json"
 check "export keyframe png" test -s "$tmp/e/key_0000.png"
 check "export keyframe depth" test -s "$tmp/e/key_0000.depth.pfm"
