@@ -74,6 +74,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   auto& warper = **warperR;
 
   keyframe::KeyframeSchedule schedule{frames, path.keyframeEvery, {}};
+  // Every frame's camera once (CameraPath::cameraAt rebuilds its arc-length
+  // table per call); read-only, so the keyframe worker thread may use it too.
+  const std::vector<Camera> cams = path.cameras();
+  auto cameraOf = [&cams](int i) { return cams[static_cast<std::size_t>(i)]; };
   for (int k : opt.keyframeFrames)
     if (k > 0 && k < frames - 1) schedule.explicitFrames.push_back(k);
   std::sort(schedule.explicitFrames.begin(), schedule.explicitFrames.end());
@@ -102,12 +106,12 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       aopt.framesPerKeyframe = nk > 1 ? static_cast<double>(frames - 1) / static_cast<double>(nk - 1) : 1.0;
       aopt.budgetScale = opt.keyframeBudgetScale;
     }
-    auto w = keyframe::AsyncKeyframes::create(scene, [&path](int i) { return path.cameraAt(i); },
+    auto w = keyframe::AsyncKeyframes::create(scene, cameraOf,
                                               aopt);
     if (!w) return w.error();
     kfWorker = std::move(*w);
   }
-  keyframe::KeyframeCache cache(renderer, meshSpec, [&](int i) { return path.cameraAt(i); },
+  keyframe::KeyframeCache cache(renderer, meshSpec, cameraOf,
                                 keyframe::CacheOptions{opt.keyframeCacheBytes,
                                                        std::max(0, opt.keyframePrefetch)});
   cache.setSchedule(schedule);
@@ -210,7 +214,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::vector<double> nearMs;
   auto drawNear = [&](const Camera& cam, int k0, int k1, const Image<float>& behindZ,
                       json& ms) -> Status {
-    const glm::dvec3 eyes[2] = {path.cameraAt(k0).eye, path.cameraAt(k1).eye};
+    const glm::dvec3 eyes[2] = {cameraOf(k0).eye, cameraOf(k1).eye};
     keyframe::RenderStats rs;
     Stopwatch sw;
     HW_TRY(renderer.renderNear(cam, eyes, k0 == k1 ? 1 : 2, opt.nearDistance, nearColour, nearEyeZ,
@@ -241,7 +245,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   };
 
   for (int i = 0; i < frames; ++i) {
-    const Camera cam = path.cameraAt(i);
+    const Camera& cam = cams[static_cast<std::size_t>(i)];
     json fj;
     fj["index"] = i;
     const auto [k0, k1] = schedule.bracket(i);
@@ -448,6 +452,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     // Drop GPU copies of keyframes no later frame can use.
     for (auto it = sources.begin(); it != sources.end();)
       it = it->first < k0 ? sources.erase(it) : std::next(it);
+    for (auto it = uploadStats.begin(); it != uploadStats.end();)
+      it = it->first < k0 ? uploadStats.erase(it) : std::next(it);
+    cache.releaseBefore(k0);
     glErrors += gl::drainGlErrors();
     if ((i + 1) % 500 == 0) rssKiB.push_back({i + 1, residentKiB()});
     progress.update(i + 1);
@@ -514,6 +521,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["keyframe_cache_mb"] = static_cast<double>(opt.keyframeCacheBytes) / (1 << 20);
   summary["keyframe_cache_peak_mb"] = static_cast<double>(cache.peakBytes()) / (1 << 20);
   summary["keyframe_cache_evictions"] = cache.evictions();
+  summary["keyframe_cache_released"] = cache.released();
   summary["frame_ms"] = stats(frameMsAll);
   summary["frame_ms_p95_over_median"] = ratio(frameMsAll);
   summary["in_between_frame_ms"] = stats(inBetweenFrameMs);

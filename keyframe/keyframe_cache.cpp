@@ -153,6 +153,24 @@ void KeyframeCache::evict(const std::vector<int>& keep) {
   }
 }
 
+void KeyframeCache::releaseBefore(int frame) {
+  for (std::size_t i = 0; i < entries_.size();) {
+    if (entries_[i]->frame >= frame) {
+      ++i;
+      continue;
+    }
+    bytes_ -= entryBytes_[i];
+    std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
+    entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
+    entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
+    ++released_;
+    if (producer_ && !source_)
+      producer_->recycle(std::move(gone));
+    else
+      spare_ = std::move(gone);
+  }
+}
+
 Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
   lastWaitMs_ = 0;
   for (std::size_t i = 0; i < entries_.size(); ++i) {

@@ -121,11 +121,17 @@ class KeyframeCache {
   // they are requested and finished ones moved into the cache (never
   // blocks); without one they are built here, now (for idle time).
   Status prefetch(int frame);
+  // Drops the entries of keyframes before `frame` (a walk moving forward
+  // calls it with its bracket's first keyframe: no later frame can use them),
+  // so the cache holds what can still bracket a frame, not `maxBytes` of the
+  // past. Their buffers are reused for later builds.
+  void releaseBefore(int frame);
 
   std::size_t builds() const { return builds_; }        // entries built or taken
   std::size_t bytes() const { return bytes_; }          // held now
   std::size_t peakBytes() const { return peakBytes_; }  // most held after any call
-  std::size_t evictions() const { return evictions_; }
+  std::size_t evictions() const { return evictions_; }  // by the byte bound
+  std::size_t released() const { return released_; }    // by releaseBefore
   std::size_t entries() const { return entries_.size(); }
   bool contains(int frame) const;
   int stalls() const { return stalls_; }             // get()s that waited for the producer
@@ -146,7 +152,8 @@ class KeyframeCache {
   std::vector<std::unique_ptr<CachedKeyframe>> entries_;  // most recently used last
   std::unique_ptr<CachedKeyframe> spare_;                 // evicted, buffers reused
   std::vector<std::size_t> entryBytes_;                   // parallel to entries_
-  std::size_t builds_ = 0, bytes_ = 0, peakBytes_ = 0, evictions_ = 0, largestEntry_ = 0;
+  std::size_t builds_ = 0, bytes_ = 0, peakBytes_ = 0, evictions_ = 0, released_ = 0,
+              largestEntry_ = 0;
   int stalls_ = 0;
   double stallMs_ = 0, lastWaitMs_ = 0;
   Source source_;

@@ -161,38 +161,60 @@ glm::dvec3 safeUp(const glm::dvec3& forward, const glm::dvec3& up) {
 
 }  // namespace
 
-Camera CameraPath::cameraAt(int index) const {
-  HW_CHECK(!keys.empty());
+namespace {
+
+// The arc-length table frames are spaced by: the eye curve's, or for a pure
+// rotation (all eyes coincide) the look-at curve's. Empty for one key.
+std::vector<double> spacingTable(const CameraPath& p) {
+  if (p.keys.size() < 2 || p.frames < 2) return {};
+  std::vector<double> table = arcLengthTable(p.keys, Which::Eye);
+  const double scale = std::max(1.0, glm::length(p.keys.front().eye));
+  if (table.back() <= 1e-9 * scale) table = arcLengthTable(p.keys, Which::LookAt);
+  return table;
+}
+
+Camera cameraOnPath(const CameraPath& p, const std::vector<double>& table, int index) {
+  HW_CHECK(!p.keys.empty());
   HW_CHECK_GE(index, 0);
-  const int frameCount = std::max(frames, 1);
-  HW_CHECK_LT(index, frameCount);
-  const int n = static_cast<int>(keys.size());
+  HW_CHECK_LT(index, std::max(p.frames, 1));
+  const int n = static_cast<int>(p.keys.size());
   double u = 0.0;  // global curve parameter in [0, n−1]
-  if (n > 1 && frames > 1) {
-    const double frac = static_cast<double>(index) / (frames - 1);
-    std::vector<double> table = arcLengthTable(keys, Which::Eye);
-    // Pure rotation (all eyes coincide): parametrise by the look-at curve.
-    const double scale = std::max(1.0, glm::length(keys.front().eye));
-    if (table.back() <= 1e-9 * scale) table = arcLengthTable(keys, Which::LookAt);
+  if (n > 1 && p.frames > 1) {
+    const double frac = static_cast<double>(index) / (p.frames - 1);
     if (table.back() > 1e-12)
       u = parameterAtLength(table, frac * table.back());
     else
       u = frac * (n - 1);
   }
-  if (index == frames - 1) u = n - 1;  // exactly at the last key
-  const glm::dvec3 eye = curveAt(keys, Which::Eye, u);
-  glm::dvec3 target = curveAt(keys, Which::LookAt, u);
+  if (index == p.frames - 1) u = n - 1;  // exactly at the last key
+  const glm::dvec3 eye = curveAt(p.keys, Which::Eye, u);
+  glm::dvec3 target = curveAt(p.keys, Which::LookAt, u);
   if (!(glm::length(target - eye) > 1e-9)) {
     // Curves cross here: keep the nearest key's viewing direction.
     const CameraKey& k =
-        keys[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(u)), 0, n - 1))];
+        p.keys[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(u)), 0, n - 1))];
     glm::dvec3 dir = k.lookAt - k.eye;
     if (!(glm::length(dir) > 0.0)) dir = glm::dvec3(0, 0, -1);
     target = eye + glm::normalize(dir);
   }
-  const glm::dvec3 upHint = safeUp(target - eye, glm::length(up) > 0.0 ? up : glm::dvec3(0, 1, 0));
-  return Camera::lookAt(eye, target, upHint, fovYDeg * kPi / 180.0, width, height, nearPlane,
-                        farPlane);
+  const glm::dvec3 upHint =
+      safeUp(target - eye, glm::length(p.up) > 0.0 ? p.up : glm::dvec3(0, 1, 0));
+  return Camera::lookAt(eye, target, upHint, p.fovYDeg * kPi / 180.0, p.width, p.height,
+                        p.nearPlane, p.farPlane);
+}
+
+}  // namespace
+
+Camera CameraPath::cameraAt(int index) const {
+  return cameraOnPath(*this, spacingTable(*this), index);
+}
+
+std::vector<Camera> CameraPath::cameras() const {
+  const std::vector<double> table = spacingTable(*this);
+  std::vector<Camera> out;
+  out.reserve(static_cast<std::size_t>(std::max(frames, 1)));
+  for (int i = 0; i < std::max(frames, 1); ++i) out.push_back(cameraOnPath(*this, table, i));
+  return out;
 }
 
 Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::string& source) {

@@ -30,7 +30,11 @@ struct CameraPath {
 
   // Camera of frame `index` in [0, frames). Constant speed along the curve;
   // frame 0 is at the first key, frame frames−1 at the last.
+  // Builds the arc-length table on every call: for one camera.
   Camera cameraAt(int index) const;
+  // Every frame's camera, equal to cameraAt(0 … frames−1), one table for all
+  // (what a walk over the path should use: no per-frame allocation).
+  std::vector<Camera> cameras() const;
   bool isKeyframe(int index) const { return index % keyframeEvery == 0; }
 };
 

@@ -167,6 +167,7 @@ struct FrameStats {
   bool direct = false;  // hybrid frame shown straight from a keyframe at this camera
   bool builtKeyframe = false;
   bool readKeyframe = false;  // one read from the keyframe database this frame
+  bool backgroundSkipped = false;  // the foreground covered every pixel
   double geometryMs = 0;
   std::size_t trianglesDrawn = 0;
   double keyframeMs = 0;  // keyframe build or read during this frame (0 if none)
@@ -270,7 +271,7 @@ class Viewer {
   double newestSPrev_ = 0;
   long newestSerialPrev_ = -1;
   bool moving_ = false;
-  warp::Layer layerA_, layerB_;
+  warp::Layer layerA_;  // both layers, composed on the GPU (Warper::warpPair)
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;
   gapfill::ComposeOptions composeOptions_;
@@ -502,7 +503,7 @@ void Viewer::setPlayPath(const scenes::CameraPath& path) {
   playCams_.clear();
   playCams_.reserve(static_cast<std::size_t>(path.frames));
   if (!path.keys.empty())
-    for (int i = 0; i < path.frames; ++i) playCams_.push_back(path.cameraAt(i));
+    playCams_ = path.cameras();
   playIndex_ = 0;
 }
 
@@ -955,19 +956,20 @@ Status Viewer::renderHybrid(FrameStats& st) {
     return {};
   }
   Stopwatch sw;
-  warp::WarpStats wa, wb;
-  HW_TRY(warper_->warp(*fg.source, cam_, layerA_, &wa));
-  st.warpAMs = sw.lap();
-  st.quadsA = wa.quads;
-  st.layers = 1;
-  if (b >= 0) {
-    HW_TRY(warper_->warp(*slots_[static_cast<std::size_t>(b)].source, cam_, layerB_, &wb));
-    st.warpBMs = sw.lap();
-    st.quadsB = wb.quads;
-    st.layers = 2;
-  }
-  gapfill::compose(layerA_, b >= 0 ? &layerB_ : nullptr, havePrevious_ ? &previous_ : nullptr,
-                   composeOptions_, frame_);
+  // Both layers in one pass (Warper::warpPair: the foreground marks the
+  // stencil, the background fills only what it left, skipped when nothing
+  // is left), then the previous frame fills what both miss.
+  warp::PairStats ps;
+  HW_TRY(warper_->warpPair(*fg.source, b >= 0 ? slots_[static_cast<std::size_t>(b)].source.get() : nullptr,
+                           cam_, layerA_, true, &ps));
+  st.warpAMs = ps.foregroundMs;
+  st.warpBMs = ps.backgroundMs + ps.readbackMs;
+  st.quadsA = ps.quadsForeground;
+  st.quadsB = ps.quadsBackground;
+  st.layers = b >= 0 ? 2 : 1;
+  st.backgroundSkipped = b >= 0 && !ps.backgroundDrawn;
+  sw.lap();
+  gapfill::compose(layerA_, nullptr, havePrevious_ ? &previous_ : nullptr, composeOptions_, frame_);
   st.composeMs = sw.lap();
   st.holesBefore = frame_.holeFractionBefore;
   st.holesAfter = frame_.holeFractionAfter;
@@ -1050,11 +1052,12 @@ void Viewer::drawHud() {
       if (s.hybrid) {
         std::snprintf(
             p, room,
-            "\nwarp A %.1f ms  warp B %.1f ms  compose %.1f ms%s\n"
+            "\nwarp fg %.1f ms  bg + readback %.1f ms%s  compose %.1f ms%s\n"
             "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
             "last keyframe: %s %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built, %ld read%s\n"
             "tau %g  keyframe every %.2f units / %.0f deg",
-            s.warpAMs, s.warpBMs, s.composeMs, s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
+            s.warpAMs, s.warpBMs, s.backgroundSkipped ? " (bg skipped)" : "", s.composeMs,
+            s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
             s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
             lastKeyframe_.fromDb ? "read from the database" : "render", lastKeyframe_.renderMs,
             lastKeyframe_.lodMs, lastKeyframe_.uploadMs, lastKeyframe_.quads, keyframesBuilt_,

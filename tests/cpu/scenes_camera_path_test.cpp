@@ -237,5 +237,28 @@ TEST(CameraPath, LoadReportsMissingFile) {
   EXPECT_NE(p.error().message.find("/nonexistent/dir/path.json"), std::string::npos);
 }
 
+TEST(CameraPath, CamerasEqualsCameraAtForEveryFrame) {
+  // Four keys (moving, then a pure rotation at the end) and one key.
+  CameraPath p;
+  p.frames = 37;
+  p.keys = {{{0, 1, 5}, {0, 1, 0}}, {{2, 1, 3}, {0, 1, -2}}, {{3, 2, 0}, {-1, 1, -4}},
+            {{3, 2, 0}, {4, 1, -1}}};
+  const std::vector<Camera> all = p.cameras();
+  ASSERT_EQ(all.size(), 37u);
+  for (int i = 0; i < p.frames; ++i) {
+    const Camera c = p.cameraAt(i);
+    EXPECT_EQ(all[static_cast<std::size_t>(i)].eye, c.eye) << i;
+    EXPECT_EQ(all[static_cast<std::size_t>(i)].forward, c.forward) << i;
+    EXPECT_EQ(all[static_cast<std::size_t>(i)].up, c.up) << i;
+  }
+  EXPECT_NE(all[1].eye, all[0].eye);
+  CameraPath still;
+  still.frames = 3;
+  still.keys = {{{1, 2, 3}, {1, 2, 0}}};
+  const std::vector<Camera> s3 = still.cameras();
+  ASSERT_EQ(s3.size(), 3u);
+  EXPECT_EQ(s3[2].eye, still.cameraAt(2).eye);
+}
+
 }  // namespace
 }  // namespace hw::scenes

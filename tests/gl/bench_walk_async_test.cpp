@@ -159,6 +159,39 @@ TEST_F(AsyncKeyframesTest, ABoundBelowTwoKeyframesStillHoldsTheBracket) {
   }
 }
 
+TEST_F(AsyncKeyframesTest, ReleasedKeyframesLeaveTheCacheAndAWalkKeepsOnlyWhatCanStillBeUsed) {
+  const Indoor in = smallIndoor(64, 30, 3);
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  // A bound far above the walk's keyframes: only releaseBefore drops them.
+  keyframe::KeyframeCache cache(
+      **r, {}, [&](int i) { return in.path.cameraAt(i); }, keyframe::CacheOptions{1u << 30, 1});
+  const keyframe::KeyframeSchedule schedule{30, 3, {}};
+  cache.setSchedule(schedule);
+  for (int i = 0; i < 30; ++i) {
+    ASSERT_TRUE(cache.prefetch(i).ok());
+    const auto [k0, k1] = schedule.bracket(i);
+    ASSERT_TRUE(cache.get(k0).ok() && cache.get(k1).ok());
+    cache.releaseBefore(k0);
+    EXPECT_FALSE(k0 >= 3 && cache.contains(k0 - 3)) << "frame " << i;
+    EXPECT_TRUE(cache.contains(k0) && cache.contains(k1));
+    // The bracket and the one prefetched keyframe at most.
+    EXPECT_LE(cache.entries(), 3u) << "frame " << i;
+  }
+  EXPECT_EQ(cache.evictions(), 0u);
+  EXPECT_GE(cache.released(), 8u);  // keyframes 0, 3, ..., 24 passed
+  // A walk (default 256 MiB bound) releases them as it passes.
+  bench::WalkOptions o;
+  o.progress = false;
+  o.strips = 0;
+  o.reference = false;
+  auto w = bench::runWalk(in.scene, "indoor", in.path, o);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  const auto& s = w->report["summary"];
+  EXPECT_GE(s["keyframe_cache_released"].get<int>(), 8);  // the walk releases passed keyframes
+  EXPECT_EQ(s["keyframe_cache_evictions"].get<int>(), 0);
+}
+
 TEST_F(AsyncKeyframesTest, KeyframesFromTheWorkerEqualTheSynchronousOnes) {
   const Indoor in = smallIndoor(96, 20, 5);
   auto r = keyframe::GeometryRenderer::create(in.scene);
