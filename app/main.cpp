@@ -375,6 +375,7 @@ int main(int argc, char** argv) {
   bool noSkipBg = false, noSkipPrev = false;
   double nearDistance = 0;
   std::string subdivide = "none";
+  std::string primitives = "indexed";
   int subdivideCell = 16;
   int strips = 4;
   auto* walk = app.add_subcommand(
@@ -438,6 +439,12 @@ int main(int argc, char** argv) {
                    "pixels leave their plane by > 0.2 %); interior cell corners follow the "
                    "keyframe depth")
       ->check(CLI::IsMember({"none", "uniform", "adaptive"}))
+      ->capture_default_str();
+  walk->add_option("--primitives", primitives,
+                   "How quads are drawn (same pixels, different vertex work): independent (6 "
+                   "vertices per quad), indexed (4 vertices + 6 indices), shared (indexed, corners "
+                   "identical between neighbouring quads stored once)")
+      ->check(CLI::IsMember({"independent", "indexed", "shared"}))
       ->capture_default_str();
   walk->add_option("--subdivide-cell", subdivideCell, "Cell size for --subdivide, keyframe pixels")
       ->check(CLI::Range(2, 4096))
@@ -1147,6 +1154,7 @@ int main(int argc, char** argv) {
                         : subdivide == "adaptive" ? warp::Subdivision::Adaptive
                                                   : warp::Subdivision::None;
   wo.warp.subdivideCellPx = subdivideCell;
+  warp::parsePrimitives(primitives.c_str(), &wo.warp.primitives);
   wo.depthMode = depthModeOf(walkC.depth);
   wo.reference = !noRef;
   wo.saveFrames = saveFrames;

@@ -484,6 +484,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["layers"] = fusedUsed ? "fused" : "separate";
   summary["near_distance"] = opt.nearDistance;
   summary["subdivision"] = warp::subdivisionName(opt.warp.subdivision);
+  summary["primitives"] = warp::primitivesName(opt.warp.primitives);
   summary["subdivide_cell_px"] = opt.warp.subdivideCellPx;
   summary["drawn_quads_per_keyframe"] = stats(drawnQuads);
   summary["subdivided_quads_per_keyframe"] = stats(subdividedQuads);

@@ -32,7 +32,20 @@ enum class Subdivision {
 };
 const char* subdivisionName(Subdivision s);  // "none", "uniform", "adaptive"
 
+// How a layer's quads reach the rasteriser (issue #9, "cheaper primitives").
+// All three draw the same triangles with the same vertex values, so the
+// layers are identical pixel for pixel; only the vertex work differs.
+enum class Primitives {
+  Independent,  // 6 vertices per quad, glDrawArrays (every vertex shaded 6×/quad)
+  Indexed,      // 4 vertices + 6 indices per quad, glDrawElements
+  Shared,       // indexed, and corners bit-identical in position and texcoord
+                // (neighbouring leaves on one plane) stored once
+};
+const char* primitivesName(Primitives p);  // "independent", "indexed", "shared"
+bool parsePrimitives(const char* s, Primitives* out);
+
 struct WarpOptions {
+  Primitives primitives = Primitives::Indexed;
   Subdivision subdivision = Subdivision::None;
   int subdivideCellPx = 16;           // cell size in keyframe pixels
   double subdivideDepthRatio = 1.5;   // Adaptive: max/min corner eye z
@@ -64,6 +77,7 @@ struct WarpStats {
   int uncovered = 0;      // pixels of the layer no quad or sky rectangle covers
   int subdividedQuads = 0;  // upload: leaves cut into cells
   int drawnQuads = 0;       // upload: quads drawn after subdivision
+  int vertices = 0;         // upload: vertices stored (quads and sky rectangles)
 };
 
 // One fused pass for both layers (Warper::warpPair).

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -15,6 +17,24 @@
 #include "warp/sky_rects.h"
 
 namespace hw::warp {
+
+const char* primitivesName(Primitives p) {
+  switch (p) {
+    case Primitives::Independent: return "independent";
+    case Primitives::Indexed: return "indexed";
+    case Primitives::Shared: return "shared";
+  }
+  return "?";
+}
+
+bool parsePrimitives(const char* s, Primitives* out) {
+  for (Primitives p : {Primitives::Independent, Primitives::Indexed, Primitives::Shared})
+    if (std::strcmp(s, primitivesName(p)) == 0) {
+      *out = p;
+      return true;
+    }
+  return false;
+}
 
 const char* subdivisionName(Subdivision s) {
   switch (s) {
@@ -91,18 +111,31 @@ constexpr float kBackgroundAlpha = 254.0f / 255.0f;
 struct WarpVertex {
   float pos[4];
   float tex[3];
+  bool operator==(const WarpVertex& o) const { return std::memcmp(this, &o, sizeof o) == 0; }
+};
+static_assert(sizeof(WarpVertex) == 28, "no padding: vertices are compared and hashed as bytes");
+
+struct WarpVertexHash {
+  std::size_t operator()(const WarpVertex& v) const {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull;
+    std::uint32_t w[7];
+    std::memcpy(w, &v, sizeof w);
+    for (std::uint32_t x : w) h = (h ^ x) * 0x100000001B3ull;
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
 };
 
 // The GL objects of one uploaded keyframe, with the storage sizes they hold.
 struct GlSlot {
-  GLuint vao = 0, vbo = 0, tex = 0;
-  GLsizeiptr vboBytes = 0;
+  GLuint vao = 0, vbo = 0, ibo = 0, tex = 0;
+  GLsizeiptr vboBytes = 0, iboBytes = 0;
   int texWidth = 0, texHeight = 0;
 };
 
 void destroySlot(GlSlot& s) {
   if (s.vao) glDeleteVertexArrays(1, &s.vao);
   if (s.vbo) glDeleteBuffers(1, &s.vbo);
+  if (s.ibo) glDeleteBuffers(1, &s.ibo);
   if (s.tex) glDeleteTextures(1, &s.tex);
   s = GlSlot{};
 }
@@ -133,7 +166,8 @@ class GlWarpSource final : public WarpSource {
 
   Camera camera;
   int quads = 0;
-  int skyRects = 0;  // drawn after the quads' vertices in the same buffer
+  int skyRects = 0;  // drawn after the quads' vertices (indices) in the same buffer
+  bool indexed = false;
   GlSlot slot;
   // Shared so that sources outliving the warper still free their objects.
   std::shared_ptr<SlotPool> pool;
@@ -183,21 +217,46 @@ class GlWarper final : public Warper {
     if (options_.skyBackdrop) emptyRects(kf.covered, skyRects_);
     else skyRects_.clear();
     src->skyRects = static_cast<int>(skyRects_.size());
+    const Primitives prim = options_.primitives;
+    src->indexed = prim != Primitives::Independent;
     scratch_.clear();
-    scratch_.reserve((mesh.quads.size() + skyRects_.size()) * 6);
+    indices_.clear();
+    shared_.clear();
+    scratch_.reserve((mesh.quads.size() + skyRects_.size()) * (src->indexed ? 4 : 6));
+    if (src->indexed) indices_.reserve((mesh.quads.size() + skyRects_.size()) * 6);
     static constexpr int kTri[6] = {0, 1, 2, 0, 2, 3};
+    // One quad (corners in order) as two triangles 0-1-2, 0-2-3.
+    auto addQuad = [&](const WarpVertex* v) {
+      if (prim == Primitives::Independent) {
+        for (int k : kTri) scratch_.push_back(v[k]);
+        return;
+      }
+      std::uint32_t id[4];
+      for (int k = 0; k < 4; ++k) {
+        if (prim == Primitives::Shared) {
+          const auto [it, fresh] =
+              shared_.try_emplace(v[k], static_cast<std::uint32_t>(scratch_.size()));
+          if (fresh) scratch_.push_back(v[k]);
+          id[k] = it->second;
+        } else {
+          id[k] = static_cast<std::uint32_t>(scratch_.size());
+          scratch_.push_back(v[k]);
+        }
+      }
+      for (int k : kTri) indices_.push_back(id[k]);
+    };
     auto emit = [&](const glm::dvec3* world, const glm::dvec2* pixel, const double* eyeZ) {
-      for (int k : kTri) {
-        WarpVertex v;
-        for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(world[k][c]);
-        v.pos[3] = 1.0f;
+      WarpVertex v[4];
+      for (int k = 0; k < 4; ++k) {
+        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(world[k][c]);
+        v[k].pos[3] = 1.0f;
         const double s = pixel[k].x * invW, t = pixel[k].y * invH;
         const double w = options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0;
-        v.tex[0] = static_cast<float>(s * w);
-        v.tex[1] = static_cast<float>(t * w);
-        v.tex[2] = static_cast<float>(w);
-        scratch_.push_back(v);
+        v[k].tex[0] = static_cast<float>(s * w);
+        v[k].tex[1] = static_cast<float>(t * w);
+        v[k].tex[2] = static_cast<float>(w);
       }
+      addQuad(v);
     };
     int subdivided = 0;
     for (const keyframe::Quad& q : mesh.quads) {
@@ -209,35 +268,35 @@ class GlWarper final : public Warper {
       ++subdivided;
       emitCells(q, kf, emit);
     }
-    src->quads = static_cast<int>(scratch_.size() / 6);
+    src->quads = static_cast<int>((src->indexed ? indices_.size() : scratch_.size()) / 6);
     if (stats) {
       stats->subdividedQuads = subdivided;
       stats->drawnQuads = src->quads;
     }
-    WarpVertex* out = nullptr;
     // Sky: each corner is the direction through that keyframe image point,
     // scaled to depth 1 along W, so its projective texcoord is (s, t, 1).
-    const std::size_t quadVerts = scratch_.size();
-    scratch_.resize(quadVerts + skyRects_.size() * 6);
-    out = scratch_.data() + quadVerts;
     for (const keyframe::PixelRect& r : skyRects_) {
       const double us[4] = {double(r.x0), double(r.x1), double(r.x1), double(r.x0)};
       const double vs[4] = {double(r.y0), double(r.y0), double(r.y1), double(r.y1)};
-      for (int k : kTri) {
-        WarpVertex& v = *out++;
+      WarpVertex v[4];
+      for (int k = 0; k < 4; ++k) {
         const glm::dvec3 d = kf.camera.unproject(us[k], vs[k], 1.0) - kf.camera.eye;
-        for (int c = 0; c < 3; ++c) v.pos[c] = static_cast<float>(d[c]);
-        v.pos[3] = 0.0f;
-        v.tex[0] = static_cast<float>(us[k] * invW);
-        v.tex[1] = static_cast<float>(vs[k] * invH);
-        v.tex[2] = 1.0f;
+        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(d[c]);
+        v[k].pos[3] = 0.0f;
+        v[k].tex[0] = static_cast<float>(us[k] * invW);
+        v[k].tex[1] = static_cast<float>(vs[k] * invH);
+        v[k].tex[2] = 1.0f;
       }
+      addQuad(v);
     }
+    if (stats) stats->vertices = static_cast<int>(scratch_.size());
     if (!slot.vao) {
       glGenVertexArrays(1, &slot.vao);
       glBindVertexArray(slot.vao);
       glGenBuffers(1, &slot.vbo);
+      glGenBuffers(1, &slot.ibo);
       glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, slot.ibo);  // recorded in the VAO
       glEnableVertexAttribArray(0);
       glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
                             reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
@@ -256,6 +315,16 @@ class GlWarper final : public Warper {
     }
     if (bytes > 0) glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, scratch_.data());
     glBindBuffer(GL_ARRAY_BUFFER, 0);
+    if (src->indexed) {
+      const auto ibytes = static_cast<GLsizeiptr>(indices_.size() * sizeof(std::uint32_t));
+      glBindVertexArray(slot.vao);  // the element buffer binding is VAO state
+      if (ibytes > slot.iboBytes) {
+        slot.iboBytes = ibytes + ibytes / 4;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, slot.iboBytes, nullptr, GL_DYNAMIC_DRAW);
+      }
+      if (ibytes > 0) glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, indices_.data());
+      glBindVertexArray(0);
+    }
 
     if (!slot.tex) {
       glGenTextures(1, &slot.tex);
@@ -500,12 +569,20 @@ class GlWarper final : public Warper {
       glDisable(GL_DEPTH_TEST);
       glDepthMask(GL_FALSE);
       glUniform1f(uSkyEyeZ_, kSkyEyeZ);
-      glDrawArrays(GL_TRIANGLES, src.quads * 6, src.skyRects * 6);
+      if (src.indexed)
+        glDrawElements(GL_TRIANGLES, src.skyRects * 6, GL_UNSIGNED_INT,
+                       reinterpret_cast<void*>(static_cast<std::size_t>(src.quads) * 6 *
+                                               sizeof(std::uint32_t)));
+      else
+        glDrawArrays(GL_TRIANGLES, src.quads * 6, src.skyRects * 6);
       glEnable(GL_DEPTH_TEST);
       glDepthMask(GL_TRUE);
     }
     glUniform1f(uSkyEyeZ_, 0.0f);
-    glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
+    if (src.indexed)
+      glDrawElements(GL_TRIANGLES, src.quads * 6, GL_UNSIGNED_INT, nullptr);
+    else
+      glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
     glBindVertexArray(0);
   }
 
@@ -517,6 +594,8 @@ class GlWarper final : public Warper {
   GLuint emptyVao_ = 0, query_ = 0;
   gl::Framebuffer pairFbo_;
   std::vector<WarpVertex> scratch_;
+  std::vector<std::uint32_t> indices_;
+  std::unordered_map<WarpVertex, std::uint32_t, WarpVertexHash> shared_;  // Primitives::Shared
   std::shared_ptr<SlotPool> pool_ = std::make_shared<SlotPool>();
   gl::Framebuffer fbo_;
 };
