@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -515,6 +516,43 @@ int main(int argc, char** argv) {
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
+  double frameBudgetMs = 0;
+  int staleAfter = 2;
+  bool noFramePacing = false, pixelAge = false;
+  walk->add_option("--frame-budget-ms", frameBudgetMs,
+                   "Per-frame time budget in milliseconds of frame work (0 = off): with time "
+                   "left after an in-between frame is composed, the region of pixels carried "
+                   "over from earlier frames longest is re-rendered by the geometry renderer if "
+                   "its estimated cost fits, and frames are presented every this many ms")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
+              return "expected milliseconds from 0 (off) to 60000, got '" + v + "'";
+            return {};
+          },
+          "MS", "frame budget"))
+      ->capture_default_str();
+  walk->add_option("--stale-after", staleAfter,
+                   "With --frame-budget-ms: frames a pixel must have been carried over from the "
+                   "previous frame before it counts for a refresh (at least 1)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const long x = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || x < 1 || x > 255)
+              return "expected a whole number of frames from 1 to 255, got '" + v + "'";
+            return {};
+          },
+          "FRAMES", "stale after"))
+      ->capture_default_str();
+  walk->add_flag("--no-frame-pacing", noFramePacing,
+                 "With --frame-budget-ms: refresh within the budget but do not wait for it to "
+                 "pass before the next frame");
+  walk->add_flag("--pixel-age", pixelAge,
+                 "Track and report per-pixel age (frames carried over from the previous frame) "
+                 "without a budget (always on with --frame-budget-ms); frames are identical");
 
   // render
   Common renderC;
@@ -1168,6 +1206,10 @@ int main(int argc, char** argv) {
                      : keyframePacing == "steps" ? bench::WalkOptions::KeyframePacing::Steps
                                                  : bench::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
+  wo.frameBudgetMs = frameBudgetMs;
+  wo.staleAfter = staleAfter;
+  wo.paceFrames = !noFramePacing;
+  wo.pixelAge = pixelAge;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
@@ -1244,5 +1286,14 @@ int main(int argc, char** argv) {
       s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
       num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
       s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]), walkOut.c_str());
+  if (frameBudgetMs > 0)
+    std::printf(
+        "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "
+        "pixels median %.0f; presented interval %.2f ms median, p95/median %.2f (work %.2f); "
+        "%d frames over budget\n",
+        frameBudgetMs, s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
+        num(s["refresh_ms"]["median"]), num(s["stale_pixels"]["median"]),
+        num(s["frame_interval_ms"]["median"]), num(s["frame_interval_ms_p95_over_median"]),
+        num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());
   return 0;
 }
