@@ -194,7 +194,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::vector<int> tileOrder;
   std::vector<double> stalePixels, maxAges, refreshedPixels, refreshMs, frameIntervalMs,
       inBetweenIntervalMs;
-  int framesRefreshed = 0, budgetOverruns = 0, budgetOverrunsInBetween = 0;
+  int framesRefreshed = 0, budgetOverruns = 0, budgetOverrunsInBetween = 0,
+      budgetOverrunsByRefresh = 0;
+  double workBeforeRefreshMs = -1;  // this frame's work when a refresh started (-1: none)
+  std::vector<double> refreshPredictedOverMeasured;
   long long refreshRectsTotal = 0;
   std::vector<double> frameMsAll, inBetweenFrameMs, stallMs;
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
@@ -325,6 +328,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       if (work > opt.frameBudgetMs) {
         ++budgetOverruns;
         budgetOverrunsInBetween += !keyframeFrame;
+        // Within the budget before a refresh, over it after: the estimate missed.
+        budgetOverrunsByRefresh +=
+            workBeforeRefreshMs >= 0 && workBeforeRefreshMs <= opt.frameBudgetMs;
       }
       if (opt.paceFrames)
         std::this_thread::sleep_until(
@@ -357,6 +363,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     // upload, warp, compose; not the reference or the metrics.
     frameSw.restart();
     frameStart = std::chrono::steady_clock::now();
+    workBeforeRefreshMs = -1;
     frameWaitMs = 0;
     if (asyncKf) {
       kfWorker->frameTick();
@@ -511,11 +518,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                                                         cam.height, maxPx, tileOrder, &r))
               break;
             const double predicted = refreshCost.predict(r.area());
+            if (workBeforeRefreshMs < 0) workBeforeRefreshMs = frameSw.ms();
             Stopwatch one;
             HW_TRY(renderer.renderColourRect(cam, r, refreshColour));
             gapfill::applyRefresh(r, refreshColour, frame);
             const double t = one.ms();
             refreshCost.update(r.area(), t);
+            refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
             gapfill::clearTileScores(r, cols, kTile, tileScores);
             refreshed += r.area();
             rects.push_back({{"rect", {r.x0, r.y0, r.width(), r.height()}},
@@ -718,6 +727,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["in_between_frame_interval_ms_p95_over_median"] = ratio(inBetweenIntervalMs);
   summary["budget_overruns"] = budgetOn ? json(budgetOverruns) : json(nullptr);
   summary["budget_overruns_in_between"] = budgetOn ? json(budgetOverrunsInBetween) : json(nullptr);
+  summary["budget_overruns_by_refresh"] = budgetOn ? json(budgetOverrunsByRefresh) : json(nullptr);
+  summary["refresh_predicted_over_measured"] = stats(refreshPredictedOverMeasured);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 
