@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -522,6 +523,43 @@ int main(int argc, char** argv) {
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
+  double frameBudgetMs = 0;
+  int staleAfter = 2;
+  bool noFramePacing = false, pixelAge = false;
+  walk->add_option("--frame-budget-ms", frameBudgetMs,
+                   "Per-frame time budget in milliseconds of frame work (0 = off): with time "
+                   "left after an in-between frame is composed, the region of pixels carried "
+                   "over from earlier frames longest is re-rendered by the geometry renderer if "
+                   "its estimated cost fits, and frames are presented every this many ms")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
+              return "expected milliseconds from 0 (off) to 60000, got '" + v + "'";
+            return {};
+          },
+          "MS", "frame budget"))
+      ->capture_default_str();
+  walk->add_option("--stale-after", staleAfter,
+                   "With --frame-budget-ms: frames a pixel must have been carried over from the "
+                   "previous frame before it counts for a refresh (at least 1)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const long x = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || x < 1 || x > 255)
+              return "expected a whole number of frames from 1 to 255, got '" + v + "'";
+            return {};
+          },
+          "FRAMES", "stale after"))
+      ->capture_default_str();
+  walk->add_flag("--no-frame-pacing", noFramePacing,
+                 "With --frame-budget-ms: refresh within the budget but do not wait for it to "
+                 "pass before the next frame");
+  walk->add_flag("--pixel-age", pixelAge,
+                 "Track and report per-pixel age (frames carried over from the previous frame) "
+                 "without a budget (always on with --frame-budget-ms); frames are identical");
 
   // render
   Common renderC;
@@ -1176,6 +1214,10 @@ int main(int argc, char** argv) {
                      : keyframePacing == "steps" ? bench::WalkOptions::KeyframePacing::Steps
                                                  : bench::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
+  wo.frameBudgetMs = frameBudgetMs;
+  wo.staleAfter = staleAfter;
+  wo.paceFrames = !noFramePacing;
+  wo.pixelAge = pixelAge;
   auto in = loadInputs(walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
@@ -1240,8 +1282,7 @@ int main(int argc, char** argv) {
       "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
       "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
       "  every frame (%s keyframes) %.2f ms median, p95 %.2f (p95/median %.2f); "
-      "%d keyframe stalls, %.1f ms waited\n"
-      "report: %s/report.json\n",
+      "%d keyframe stalls, %.1f ms waited\n",
       walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
       s["frames"].get<int>(), s["keyframes"].get<int>(), schedule.c_str(), tauS.c_str(),
       s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
@@ -1251,6 +1292,16 @@ int main(int argc, char** argv) {
       num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]),
       s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
       num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
-      s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]), walkOut.c_str());
+      s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
+  if (frameBudgetMs > 0)
+    std::printf(
+        "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "
+        "pixels median %.0f; presented interval %.2f ms median, p95/median %.2f (work %.2f); "
+        "%d frames over budget\n",
+        frameBudgetMs, s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
+        num(s["refresh_ms"]["median"]), num(s["stale_pixels"]["median"]),
+        num(s["frame_interval_ms"]["median"]), num(s["frame_interval_ms_p95_over_median"]),
+        num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());
+  std::printf("report: %s/report.json\n", walkOut.c_str());
   return 0;
 }

@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "core/file_io.h"
@@ -19,6 +22,7 @@
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
+#include "gapfill/age.h"
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 
@@ -44,6 +48,37 @@ json stats(const std::vector<double>& v) {
           {"count", v.size()}};
 }
 
+// Estimated cost of a scissored geometry render (GeometryRenderer::
+// renderColourRect) of p pixels, copy into the frame included:
+// scale · (fixed + perPixel · p) · (1 + kMargin). fixed and perPixel come from
+// two renders measured at warm-up (a tile and the whole image); scale follows
+// the measured / estimated ratio of each refresh (exponential average), so
+// the estimate tracks the scene and the load.
+struct RefreshCostModel {
+  static constexpr double kMargin = 0.1;  // headroom against timing noise
+  static constexpr double kAlpha = 0.25;  // weight of the newest measurement
+  double fixedMs = 0, perPixelMs = 0, scale = 1;
+
+  void calibrate(long long smallPx, double smallMs, long long fullPx, double fullMs) {
+    perPixelMs = fullPx > smallPx ? (fullMs - smallMs) / static_cast<double>(fullPx - smallPx) : 0;
+    if (!(perPixelMs > 0)) perPixelMs = fullMs / static_cast<double>(std::max(1LL, fullPx));
+    fixedMs = std::max(0.0, smallMs - perPixelMs * static_cast<double>(smallPx));
+  }
+  double predict(long long px) const {
+    return scale * (fixedMs + perPixelMs * static_cast<double>(px)) * (1 + kMargin);
+  }
+  // The most pixels whose estimate fits in `ms` (0: not even an empty render).
+  long long maxPixels(double ms) const {
+    const double base = ms / (scale * (1 + kMargin)) - fixedMs;
+    if (!(base > 0)) return 0;
+    if (!(perPixelMs > 0)) return LLONG_MAX;
+    return static_cast<long long>(std::min(base / perPixelMs, 1e15));
+  }
+  void update(long long px, double ms) {
+    const double base = fixedMs + perPixelMs * static_cast<double>(px);
+    if (base > 0 && std::isfinite(ms)) scale = (1 - kAlpha) * scale + kAlpha * (ms / base);
+  }
+};
 
 }  // namespace
 
@@ -128,6 +163,46 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   }
   const double warmupMs = warmupSw.ms();
   const int warmupStalls = cache.stalls();
+  // Frame budget (WalkOptions::frameBudgetMs): the refresh render's cost model
+  // is calibrated here, before the first frame (two scissored renders, each
+  // timed on its second run: a tile at the centre and the whole image).
+  const bool budgetOn = opt.frameBudgetMs > 0;
+  const bool trackAge = budgetOn || opt.pixelAge;
+  constexpr int kTile = WalkOptions::kRefreshTilePx;
+  RefreshCostModel refreshCost;
+  double refreshCalibrationMs = 0;
+  Image<Rgba8> refreshColour;
+  if (budgetOn) {
+    if (opt.staleAfter < 1)
+      return makeError("walk: staleAfter " + std::to_string(opt.staleAfter) +
+                       ": expected at least 1 frame");
+    Stopwatch cal;
+    const Camera cam0 = path.cameraAt(0);
+    const int tw = std::min(kTile, cam0.width), th = std::min(kTile, cam0.height);
+    const keyframe::PixelRect small{(cam0.width - tw) / 2, (cam0.height - th) / 2,
+                                    (cam0.width - tw) / 2 + tw, (cam0.height - th) / 2 + th};
+    const keyframe::PixelRect full{0, 0, cam0.width, cam0.height};
+    double t[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      const keyframe::PixelRect& r = k == 0 ? small : full;
+      for (int rep = 0; rep < 2; ++rep) {
+        Stopwatch sw;
+        HW_TRY(renderer.renderColourRect(cam0, r, refreshColour));
+        t[k] = sw.ms();
+      }
+    }
+    refreshCost.calibrate(small.area(), t[0], full.area(), t[1]);
+    refreshCalibrationMs = cal.ms();
+  }
+  std::vector<std::uint32_t> tileScores;
+  std::vector<int> tileOrder;
+  std::vector<double> stalePixels, maxAges, refreshedPixels, refreshMs, frameIntervalMs,
+      inBetweenIntervalMs;
+  int framesRefreshed = 0, budgetOverruns = 0, budgetOverrunsInBetween = 0,
+      budgetOverrunsByRefresh = 0;
+  double workBeforeRefreshMs = -1;  // this frame's work when a refresh started (-1: none)
+  std::vector<double> refreshPredictedOverMeasured;
+  long long refreshRectsTotal = 0;
   std::vector<double> frameMsAll, inBetweenFrameMs, stallMs;
   std::map<int, std::unique_ptr<warp::WarpSource>> sources;  // keyframe → GPU copy
   std::map<int, warp::WarpStats> uploadStats;
@@ -244,6 +319,37 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     return {};
   };
 
+  // The end of a frame's work: ms["frame"] (work), then with a budget and
+  // pacing a sleep until the budget has passed since the frame started, and
+  // ms["interval"], the presented frame interval (work + that wait; the
+  // reference render and the metrics stay outside both).
+  Stopwatch frameSw;
+  std::chrono::steady_clock::time_point frameStart;
+  auto endFrameWork = [&](json& ms, bool keyframeFrame) {
+    const double work = frameSw.ms();
+    ms["frame"] = work;
+    if (budgetOn) {
+      if (work > opt.frameBudgetMs) {
+        ++budgetOverruns;
+        budgetOverrunsInBetween += !keyframeFrame;
+        // Within the budget before a refresh, over it after: the estimate missed.
+        budgetOverrunsByRefresh +=
+            workBeforeRefreshMs >= 0 && workBeforeRefreshMs <= opt.frameBudgetMs;
+      }
+      if (opt.paceFrames)
+        std::this_thread::sleep_until(
+            frameStart + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double, std::milli>(opt.frameBudgetMs)));
+    }
+    const double interval =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
+            .count();
+    ms["pacing_wait"] = std::max(0.0, interval - work);
+    ms["interval"] = interval;
+    frameIntervalMs.push_back(interval);
+    if (!keyframeFrame) inBetweenIntervalMs.push_back(interval);
+  };
+
   for (int i = 0; i < frames; ++i) {
     const Camera& cam = cams[static_cast<std::size_t>(i)];
     json fj;
@@ -259,7 +365,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     }
     // What a viewer waits for: keyframe acquisition (build or wait),
     // upload, warp, compose; not the reference or the metrics.
-    Stopwatch frameSw;
+    frameSw.restart();
+    frameStart = std::chrono::steady_clock::now();
+    workBeforeRefreshMs = -1;
     frameWaitMs = 0;
     if (asyncKf) {
       kfWorker->frameTick();
@@ -303,7 +411,14 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
           HW_TRY(warper.warp(*sources[next], cam, layerB, nullptr));
         }
       }
-      ms["frame"] = frameSw.ms();
+      if (trackAge) {
+        Stopwatch sa;
+        const gapfill::AgeStats as = gapfill::updateAge(havePrevious ? &previous : nullptr, frame);
+        ms["age"] = sa.ms();
+        fj["stale_pixels"] = as.stale;
+        fj["max_age"] = as.maxAge;
+      }
+      endFrameWork(ms, true);
       fj["holes_before_fallback"] = 0.0;
       fj["holes_after_fallback"] = 0.0;
       if (opt.reference) {
@@ -387,6 +502,56 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       }
       const double totalMs = total.ms();
       ms["total"] = totalMs;
+      if (trackAge) {
+        // Age (gapfill/age.h), then with a budget the refresh of the oldest
+        // region while its estimated cost fits in the time left.
+        Stopwatch sa;
+        gapfill::AgeStats as = gapfill::updateAge(havePrevious ? &previous : nullptr, frame);
+        ms["age"] = sa.ms();
+        fj["stale_pixels_before_refresh"] = as.stale;
+        if (budgetOn) {
+          Stopwatch sr;
+          int cols = 0, rows = 0;
+          gapfill::scoreStaleTiles(frame.age, opt.staleAfter, kTile, tileScores, &cols, &rows);
+          long long refreshed = 0;
+          json rects = json::array();
+          for (int n = 0; n < WalkOptions::kMaxRefreshRects; ++n) {
+            const long long maxPx = refreshCost.maxPixels(opt.frameBudgetMs - frameSw.ms());
+            keyframe::PixelRect r;
+            if (maxPx < 1 || !gapfill::chooseRefreshRect(tileScores, cols, rows, kTile, cam.width,
+                                                        cam.height, maxPx, tileOrder, &r))
+              break;
+            const double predicted = refreshCost.predict(r.area());
+            if (workBeforeRefreshMs < 0) workBeforeRefreshMs = frameSw.ms();
+            Stopwatch one;
+            HW_TRY(renderer.renderColourRect(cam, r, refreshColour));
+            gapfill::applyRefresh(r, refreshColour, frame);
+            const double t = one.ms();
+            refreshCost.update(r.area(), t);
+            refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
+            gapfill::clearTileScores(r, cols, kTile, tileScores);
+            refreshed += r.area();
+            rects.push_back({{"rect", {r.x0, r.y0, r.width(), r.height()}},
+                             {"ms", t},
+                             {"predicted_ms", predicted}});
+          }
+          if (refreshed > 0) {
+            as = gapfill::ageStats(frame.age);
+            ++framesRefreshed;
+            refreshRectsTotal += static_cast<long long>(rects.size());
+          }
+          const double rt = sr.ms();
+          ms["refresh"] = rt;
+          refreshMs.push_back(rt);
+          refreshedPixels.push_back(static_cast<double>(refreshed));
+          fj["refreshed_pixels"] = refreshed;
+          fj["refresh_rects"] = std::move(rects);
+        }
+        fj["stale_pixels"] = as.stale;
+        fj["max_age"] = as.maxAge;
+        stalePixels.push_back(as.stale);
+        maxAges.push_back(as.maxAge);
+      }
       backgroundSkips += bgSkipped;
       previousSkips += prevSkipped;
       fj["is_keyframe"] = false;
@@ -396,7 +561,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       fj["skipped"] = {{"background", bgSkipped}, {"previous_frame", prevSkipped}};
       fj["foreground_uncovered_pixels"] = fgUncovered;
       foregroundUncovered.push_back(fgUncovered);
-      ms["frame"] = frameSw.ms();
+      endFrameWork(ms, false);
       inBetweenFrameMs.push_back(ms["frame"].get<double>());
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
@@ -546,6 +711,33 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? json(opt.keyframeStepsPerFrame)
                                                                           : json(nullptr);
   summary["keyframe_worker_busy_ms"] = kfWorker ? json(kfWorker->workerBusyMs()) : json(nullptr);
+  // Frame budget and pixel age (issue #8; WalkOptions::frameBudgetMs).
+  summary["frame_budget_ms"] = opt.frameBudgetMs;
+  summary["frame_pacing"] = budgetOn && opt.paceFrames;
+  summary["pixel_age"] = trackAge;
+  summary["stale_after"] = budgetOn ? json(opt.staleAfter) : json(nullptr);
+  summary["refresh_tile_px"] = budgetOn ? json(kTile) : json(nullptr);
+  summary["stale_pixels"] = stats(stalePixels);
+  summary["max_age"] = stats(maxAges);
+  summary["refreshed_pixels"] = stats(refreshedPixels);
+  summary["refresh_ms"] = stats(refreshMs);
+  summary["frames_refreshed"] = framesRefreshed;
+  summary["refresh_rects"] = refreshRectsTotal;
+  summary["refresh_cost_model"] =
+      budgetOn ? json{{"fixed_ms", refreshCost.fixedMs},
+                      {"per_megapixel_ms", refreshCost.perPixelMs * 1e6},
+                      {"scale_at_end", refreshCost.scale},
+                      {"margin", RefreshCostModel::kMargin},
+                      {"calibration_ms", refreshCalibrationMs}}
+               : json(nullptr);
+  summary["frame_interval_ms"] = stats(frameIntervalMs);
+  summary["frame_interval_ms_p95_over_median"] = ratio(frameIntervalMs);
+  summary["in_between_frame_interval_ms"] = stats(inBetweenIntervalMs);
+  summary["in_between_frame_interval_ms_p95_over_median"] = ratio(inBetweenIntervalMs);
+  summary["budget_overruns"] = budgetOn ? json(budgetOverruns) : json(nullptr);
+  summary["budget_overruns_in_between"] = budgetOn ? json(budgetOverrunsInBetween) : json(nullptr);
+  summary["budget_overruns_by_refresh"] = budgetOn ? json(budgetOverrunsByRefresh) : json(nullptr);
+  summary["refresh_predicted_over_measured"] = stats(refreshPredictedOverMeasured);
   summary["machine"] = machineInfo(opt.glRenderer, opt.glVersion);
   summary["strips"] = stripInfo;
 

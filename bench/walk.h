@@ -87,6 +87,23 @@ struct WalkOptions {
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;
+  // Per-frame time budget (issue #8, after Qu et al. 2000 §3.4), in ms of
+  // frame work; 0 = off (the frames are those of the walk without it). With
+  // a budget, after an in-between frame is composed and time is left, the
+  // region whose pixels are oldest (tiles of kRefreshTilePx ranked by the
+  // summed age of pixels with age >= staleAfter) is re-rendered by the
+  // geometry renderer (scissored) if a running estimate of that render's cost
+  // says it fits in what is left; up to kMaxRefreshRects regions a frame.
+  // With paceFrames the walk then sleeps until frameBudgetMs have passed since
+  // the frame started, so frames are presented at a steady cadence.
+  double frameBudgetMs = 0;
+  int staleAfter = 2;  // frames carried over before a pixel counts for a refresh (>= 1)
+  bool paceFrames = true;
+  // Per-pixel age (gapfill/age.h) and the stale-pixel counts without a
+  // budget (always on with one). Frames are identical.
+  bool pixelAge = false;
+  static constexpr int kRefreshTilePx = 32;
+  static constexpr int kMaxRefreshRects = 4;
 };
 
 struct WalkResult {

@@ -34,6 +34,10 @@ struct Frame {
   Image<Rgba8> colour;              // row 0 = top; unfilled pixels are opaque black
   Image<std::uint8_t> holesBefore;  // 1 = neither layer covers
   Image<std::uint8_t> valid;        // 1 = has content after the previous-frame fill
+  // Frames each pixel has been carried over from the previous frame (0 = from
+  // a keyframe layer or re-rendered; gapfill/age.h). Empty unless the walk
+  // tracks ages; compose() does not touch it.
+  Image<std::uint8_t> age;
   double holeFractionBefore = 0.0;  // fraction of pixels with holesBefore = 1
   double holeFractionAfter = 0.0;   // fraction of pixels still unfilled (valid = 0)
   int fromForeground = 0;           // pixel counts; they sum to width·height

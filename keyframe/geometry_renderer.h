@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/result.h"
 #include "keyframe/keyframe.h"
+#include "keyframe/quad_mesh.h"
 #include "scenes/scene.h"
 
 namespace hw::keyframe {
@@ -45,6 +46,13 @@ class GeometryRenderer {
   // Colour only (reference images); cheaper readback.
   virtual Status renderColour(const Camera& camera, Image<Rgba8>& out,
                               RenderStats* stats = nullptr) = 0;
+  // The pixels of `rect` ([x0, x1) × [y0, y1), row 0 = top) only, the same
+  // pixels renderColour gives at this camera: the scissor test is set to the
+  // rectangle (only it is cleared and shaded), meshes are culled against its
+  // sub-frustum (grown by a pixel), and only it is read back. `out` becomes
+  // rect-sized (reused). Error for an empty rectangle or one outside the image.
+  virtual Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
+                                  RenderStats* stats = nullptr) = 0;
   // Only the meshes whose bounds come within `distance` of one of `eyes`
   // (those renderKeyframe left out of the keyframes at those eyes), drawn at
   // `camera`: colour, eye z (0 where empty) and coverage, to be composed into

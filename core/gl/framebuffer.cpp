@@ -3,6 +3,7 @@
 #include <cstring>
 #include <utility>
 
+#include "core/check.h"
 #include "core/depth.h"
 #include "core/gl/gl_api.h"
 
@@ -140,6 +141,25 @@ void Framebuffer::readColour(Image<Rgba8>& out) {
   for (int y = 0; y < height_ / 2; ++y) {
     Rgba8* a = &out(0, y);
     Rgba8* b = &out(0, height_ - 1 - y);
+    std::memcpy(rowScratch_.data(), a, rowBytes);
+    std::memcpy(a, b, rowBytes);
+    std::memcpy(b, rowScratch_.data(), rowBytes);
+  }
+}
+
+void Framebuffer::readColourRect(int x0, int y0, int w, int h, Image<Rgba8>& out) {
+  HW_CHECK(x0 >= 0 && y0 >= 0 && w >= 1 && h >= 1 && x0 + w <= width_ && y0 + h <= height_);
+  if (out.width() != w || out.height() != h) out.resize(w, h);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  // GL rows count from the bottom: the rect's top row y0 is GL row height - 1 - y0.
+  glReadPixels(x0, height_ - y0 - h, w, h, GL_RGBA, GL_UNSIGNED_BYTE, out.data());
+  const std::size_t rowBytes = static_cast<std::size_t>(w) * sizeof(Rgba8);
+  rowScratch_.resize(static_cast<std::size_t>(w));
+  for (int y = 0; y < h / 2; ++y) {
+    Rgba8* a = &out(0, y);
+    Rgba8* b = &out(0, h - 1 - y);
     std::memcpy(rowScratch_.data(), a, rowBytes);
     std::memcpy(a, b, rowBytes);
     std::memcpy(b, rowScratch_.data(), rowBytes);

@@ -32,6 +32,8 @@ class Framebuffer {
   void bindAndClear(float r, float g, float b, float a);
 
   void readColour(Image<Rgba8>& out);
+  // The w × h pixels from (x0, y0) (row 0 = top) into a w × h image.
+  void readColourRect(int x0, int y0, int w, int h, Image<Rgba8>& out);
   void readFloatChannel(Image<float>& out);
   // Depth as z' and eye z for a camera with these near/far planes.
   void readDepth(double nearPlane, double farPlane, Image<double>& zPrime, Image<float>& eyeZ,

@@ -16,6 +16,7 @@
   X(PFNGLENABLEPROC, glEnable)                                           \
   X(PFNGLDISABLEPROC, glDisable)                                         \
   X(PFNGLVIEWPORTPROC, glViewport)                                       \
+  X(PFNGLSCISSORPROC, glScissor)                                         \
   X(PFNGLCLEARPROC, glClear)                                             \
   X(PFNGLCLEARCOLORPROC, glClearColor)                                   \
   X(PFNGLCLEARDEPTHPROC, glClearDepth)                                   \

@@ -193,6 +193,24 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return gl::checkGlError("GeometryRenderer::renderColour");
   }
 
+  Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
+                          RenderStats* stats) override {
+    if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > camera.width || rect.y1 > camera.height ||
+        rect.width() < 1 || rect.height() < 1)
+      return makeError("renderColourRect: rectangle [" + std::to_string(rect.x0) + ", " +
+                       std::to_string(rect.x1) + ") x [" + std::to_string(rect.y0) + ", " +
+                       std::to_string(rect.y1) + "): expected a non-empty rectangle inside the " +
+                       std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                       " image");
+    RenderStats local;
+    HW_TRY(draw(camera, local, nullptr, &rect));
+    Stopwatch sw;
+    fbo_.readColourRect(rect.x0, rect.y0, rect.width(), rect.height(), out);
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderColourRect");
+  }
+
   Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount, double distance,
                     Image<Rgba8>& colour, Image<float>& eyeZ, Image<std::uint8_t>& covered,
                     RenderStats* stats) override {
@@ -257,9 +275,17 @@ class GlGeometryRenderer final : public GeometryRenderer {
     }
   };
 
-  Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr) {
+  // With `rect`: only its pixels are cleared and drawn (scissor test), and
+  // meshes are culled against its sub-frustum.
+  Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr,
+              const PixelRect* rect = nullptr) {
     HW_TRY(ensureFbo(camera.width, camera.height));
     Stopwatch sw;
+    if (rect) {
+      // GL's scissor box counts rows from the bottom; glClear honours it.
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(rect->x0, camera.height - rect->y1, rect->width(), rect->height());
+    }
     fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
     // The product is formed in double and rounded to float once. Float is
     // enough for the vertex stage (issue #7): scene vertices are float in
@@ -280,6 +306,17 @@ class GlGeometryRenderer final : public GeometryRenderer {
     planes[3] = t[3] - t[1];
     planes[4] = options_.depthMode == DepthMode::Float32Reversed ? t[3] - t[2] : t[3] + t[2];
     planes[5] = options_.depthMode == DepthMode::Float32Reversed ? t[2] : t[3] - t[2];
+    if (rect) {
+      // The rectangle's sub-frustum, grown by one pixel so that rounding never
+      // culls a mesh with a fragment in it: x_ndc in [l, r], y_ndc in [b, t].
+      const double w = camera.width, h = camera.height;
+      const double l = 2.0 * (rect->x0 - 1) / w - 1.0, r = 2.0 * (rect->x1 + 1) / w - 1.0;
+      const double top = 1.0 - 2.0 * (rect->y0 - 1) / h, bottom = 1.0 - 2.0 * (rect->y1 + 1) / h;
+      planes[0] = t[0] - l * t[3];
+      planes[1] = r * t[3] - t[0];
+      planes[2] = t[1] - bottom * t[3];
+      planes[3] = top * t[3] - t[1];
+    }
 
     program_.use();
     glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, glm::value_ptr(vpf));
@@ -322,6 +359,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
       }
     }
     glBindVertexArray(0);
+    if (rect) glDisable(GL_SCISSOR_TEST);
     glFinish();
     stats.drawMs = sw.ms();
     return {};
