@@ -377,6 +377,7 @@ int main(int argc, char** argv) {
   double nearDistance = 0;
   std::string subdivide = "none";
   std::string primitives = "indexed";
+  bool cullBg = false;
   int subdivideCell = 16;
   int strips = 4;
   auto* walk = app.add_subcommand(
@@ -447,6 +448,10 @@ int main(int argc, char** argv) {
                    "identical between neighbouring quads stored once)")
       ->check(CLI::IsMember({"independent", "indexed", "shared"}))
       ->capture_default_str();
+  walk->add_flag("--cull-background", cullBg,
+                 "Leave out background quads whose surfaces the foreground keyframe sees (they "
+                 "mostly land under foreground pixels; lossy: cracks along edges then come from "
+                 "the previous frame). Needs --primitives indexed or shared");
   walk->add_option("--subdivide-cell", subdivideCell, "Cell size for --subdivide, keyframe pixels")
       ->check(CLI::Range(2, 4096))
       ->capture_default_str();
@@ -1193,6 +1198,7 @@ int main(int argc, char** argv) {
                                                   : warp::Subdivision::None;
   wo.warp.subdivideCellPx = subdivideCell;
   warp::parsePrimitives(primitives.c_str(), &wo.warp.primitives);
+  wo.warp.cullBackground = cullBg;
   wo.depthMode = depthModeOf(walkC.depth);
   wo.reference = !noRef;
   wo.saveFrames = saveFrames;

@@ -235,6 +235,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   int backgroundSkips = 0, previousSkips = 0;
   std::vector<double> drawnQuads, subdividedQuads;  // per keyframe, after subdivision
   std::vector<double> foregroundUncovered;  // pixels the foreground layer left empty
+  std::vector<double> bgCulled;  // background quads left out per frame (cullBackground)
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
   Progress progress(opt.progress, frames, "walk");
@@ -471,8 +472,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
         }
         composeT = sc.ms();
         quadsDrawn = ps.quadsForeground + ps.quadsBackground;
+        if (ps.backgroundDrawn) bgCulled.push_back(ps.backgroundCulled);
         ms = {{"warp_a", ps.foregroundMs}, {"warp_b", ps.backgroundMs},
               {"readback", ps.readbackMs}, {"compose", composeT}};
+        if (ps.cullMs > 0) ms["cull"] = ps.cullMs;
         warpMs.push_back(ps.foregroundMs + ps.backgroundMs + ps.readbackMs);
       } else {
         warp::WarpStats wa, wb;
@@ -650,6 +653,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["near_distance"] = opt.nearDistance;
   summary["subdivision"] = warp::subdivisionName(opt.warp.subdivision);
   summary["primitives"] = warp::primitivesName(opt.warp.primitives);
+  summary["cull_background"] = opt.warp.cullBackground && opt.warp.primitives != warp::Primitives::Independent;
+  summary["background_quads_culled"] = stats(bgCulled);
   summary["subdivide_cell_px"] = opt.warp.subdivideCellPx;
   summary["drawn_quads_per_keyframe"] = stats(drawnQuads);
   summary["subdivided_quads_per_keyframe"] = stats(subdividedQuads);

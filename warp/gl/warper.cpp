@@ -1,6 +1,7 @@
 #include "warp/warper.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/gl/framebuffer.h"
+#include "warp/seen.h"
 #include "core/gl/gl_api.h"
 #include "core/gl/shader.h"
 #include "core/timer.h"
@@ -155,11 +157,30 @@ struct SlotPool {
   }
 };
 
+// What the background cull reads of a source on the CPU (cullBackground).
+struct CullData {
+  keyframe::Keyframe keyframe;  // camera, eyeZ, covered (no colour, no z')
+  keyframe::QuadMesh mesh;      // the leaves (rects)
+  std::vector<int> leafFirst;   // leaf i draws quads [leafFirst[i], leafFirst[i+1])
+  std::vector<std::uint32_t> indices;  // the quads' indices (6 per drawn quad)
+};
+
+// A culled index list of this source as a background, for one foreground.
+struct CullEntry {
+  long foreground = -1;  // the foreground source's serial
+  GLuint ibo = 0;
+  GLsizeiptr bytes = 0;
+  int quads = 0, culled = 0;
+  long lastUse = 0;
+};
+
 class GlWarpSource final : public WarpSource {
  public:
   ~GlWarpSource() override {
     if (pool && pool->free.size() < SlotPool::kMaxFree) pool->free.push_back(slot);
     else destroySlot(slot);
+    for (CullEntry& e : culls)
+      if (e.ibo) glDeleteBuffers(1, &e.ibo);
   }
   const Camera& keyframeCamera() const override { return camera; }
   int quadCount() const override { return quads; }
@@ -168,6 +189,9 @@ class GlWarpSource final : public WarpSource {
   int quads = 0;
   int skyRects = 0;  // drawn after the quads' vertices (indices) in the same buffer
   bool indexed = false;
+  long serial = 0;
+  std::unique_ptr<CullData> cull;          // set when cullBackground and indexed
+  mutable std::array<CullEntry, 2> culls;  // as a background, for the last two foregrounds
   GlSlot slot;
   // Shared so that sources outliving the warper still free their objects.
   std::shared_ptr<SlotPool> pool;
@@ -259,7 +283,13 @@ class GlWarper final : public Warper {
       addQuad(v);
     };
     int subdivided = 0;
+    const bool cull = options_.cullBackground && src->indexed;
+    if (cull) {
+      src->cull = std::make_unique<CullData>();
+      src->cull->leafFirst.reserve(mesh.quads.size() + 1);
+    }
     for (const keyframe::Quad& q : mesh.quads) {
+      if (cull) src->cull->leafFirst.push_back(static_cast<int>(indices_.size() / 6));
       const int cells = cellsFor(q, kf);
       if (cells <= 1) {
         emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
@@ -269,6 +299,19 @@ class GlWarper final : public Warper {
       emitCells(q, kf, emit);
     }
     src->quads = static_cast<int>((src->indexed ? indices_.size() : scratch_.size()) / 6);
+    src->serial = ++serial_;
+    if (cull) {
+      CullData& c = *src->cull;
+      c.leafFirst.push_back(src->quads);
+      c.indices = indices_;
+      c.keyframe.camera = kf.camera;
+      c.keyframe.depthMode = kf.depthMode;
+      c.keyframe.eyeZ = kf.eyeZ;
+      c.keyframe.covered = kf.covered;
+      c.mesh.width = mesh.width;
+      c.mesh.height = mesh.height;
+      c.mesh.quads = mesh.quads;
+    }
     if (stats) {
       stats->subdividedQuads = subdivided;
       stats->drawnQuads = src->quads;
@@ -412,11 +455,19 @@ class GlWarper final : public Warper {
     glDepthMask(GL_TRUE);
     const bool drawBg =
         background != nullptr && (emptyAfterFg > 0 || !skipBackgroundWhenCovered);
+    const CullEntry* culled = nullptr;
+    double cullMs = 0;
     if (drawBg) {
+      const auto& bg = static_cast<const GlWarpSource&>(*background);
+      if (bg.cull && fg.cull) {
+        Stopwatch cw;
+        culled = &cullFor(bg, fg);
+        cullMs = cw.ms();
+      }
       // Background only where the foreground left pixels empty; its own
       // depth test among its quads, not against the foreground's (overlay).
       glClear(GL_DEPTH_BUFFER_BIT);
-      drawSource(static_cast<const GlWarpSource&>(*background), target, kBackgroundAlpha);
+      drawSource(bg, target, kBackgroundAlpha, culled);
     }
     glDisable(GL_STENCIL_TEST);
     glFinish();
@@ -439,7 +490,9 @@ class GlWarper final : public Warper {
       stats->backgroundMs = bgMs;
       stats->readbackMs = sw.ms();
       stats->quadsForeground = fg.quads;
-      stats->quadsBackground = drawBg ? background->quadCount() : 0;
+      stats->quadsBackground = !drawBg ? 0 : culled ? culled->quads : background->quadCount();
+      stats->backgroundCulled = culled ? culled->culled : 0;
+      stats->cullMs = cullMs;
       stats->backgroundDrawn = drawBg;
       stats->uncoveredByForeground = static_cast<int>(emptyAfterFg);
       stats->fromBackground = fromBg;
@@ -548,8 +601,51 @@ class GlWarper final : public Warper {
     return {};
   }
 
-  // Sky rectangles (behind everything) then the quads, into the bound target.
-  void drawSource(const GlWarpSource& src, const Camera& target, float alpha) {
+  // The culled index list of `bg` under foreground `fg`: built on the first
+  // frame of the pair (quadsSeenBy + an index buffer upload), then reused.
+  const CullEntry& cullFor(const GlWarpSource& bg, const GlWarpSource& fg) {
+    ++cullClock_;
+    CullEntry* e = nullptr;
+    for (CullEntry& c : bg.culls)
+      if (c.foreground == fg.serial) e = &c;
+    if (e) {
+      e->lastUse = cullClock_;
+      return *e;
+    }
+    e = bg.culls[0].lastUse <= bg.culls[1].lastUse ? &bg.culls[0] : &bg.culls[1];
+    const CullData& b = *bg.cull;
+    quadsSeenBy(b.keyframe, b.mesh, fg.cull->keyframe, SeenOptions{}, seen_);
+    cullIndices_.clear();
+    int drawn = 0;
+    for (std::size_t leaf = 0; leaf < seen_.size(); ++leaf) {
+      if (seen_[leaf]) continue;
+      const auto first = static_cast<std::size_t>(b.leafFirst[leaf]) * 6;
+      const auto last = static_cast<std::size_t>(b.leafFirst[leaf + 1]) * 6;
+      cullIndices_.insert(cullIndices_.end(), b.indices.begin() + static_cast<std::ptrdiff_t>(first),
+                          b.indices.begin() + static_cast<std::ptrdiff_t>(last));
+      drawn += b.leafFirst[leaf + 1] - b.leafFirst[leaf];
+    }
+    if (!e->ibo) glGenBuffers(1, &e->ibo);
+    const auto bytes = static_cast<GLsizeiptr>(cullIndices_.size() * sizeof(std::uint32_t));
+    glBindVertexArray(0);  // do not disturb a VAO's element binding
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, e->ibo);
+    if (bytes > e->bytes) {
+      e->bytes = bytes + bytes / 4;
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, e->bytes, nullptr, GL_DYNAMIC_DRAW);
+    }
+    if (bytes > 0) glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, bytes, cullIndices_.data());
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    e->foreground = fg.serial;
+    e->quads = drawn;
+    e->culled = bg.quads - drawn;
+    e->lastUse = cullClock_;
+    return *e;
+  }
+
+  // Sky rectangles (behind everything) then the quads, into the bound target;
+  // with `culled`, only the quads of its index list.
+  void drawSource(const GlWarpSource& src, const Camera& target, float alpha,
+                  const CullEntry* culled = nullptr) {
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, src.slot.tex);
     // Product in double, rounded to float once (see WarpVertex for the error).
@@ -579,7 +675,11 @@ class GlWarper final : public Warper {
       glDepthMask(GL_TRUE);
     }
     glUniform1f(uSkyEyeZ_, 0.0f);
-    if (src.indexed)
+    if (culled) {
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, culled->ibo);  // into the VAO, restored below
+      glDrawElements(GL_TRIANGLES, culled->quads * 6, GL_UNSIGNED_INT, nullptr);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, src.slot.ibo);
+    } else if (src.indexed)
       glDrawElements(GL_TRIANGLES, src.quads * 6, GL_UNSIGNED_INT, nullptr);
     else
       glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
@@ -595,6 +695,9 @@ class GlWarper final : public Warper {
   gl::Framebuffer pairFbo_;
   std::vector<WarpVertex> scratch_;
   std::vector<std::uint32_t> indices_;
+  std::vector<std::uint32_t> cullIndices_;
+  std::vector<std::uint8_t> seen_;
+  long serial_ = 0, cullClock_ = 0;
   std::unordered_map<WarpVertex, std::uint32_t, WarpVertexHash> shared_;  // Primitives::Shared
   std::shared_ptr<SlotPool> pool_ = std::make_shared<SlotPool>();
   gl::Framebuffer fbo_;
