@@ -445,8 +445,9 @@ int main(int argc, char** argv) {
   walk->add_option("--primitives", primitives,
                    "How quads are drawn (same pixels, different vertex work): independent (6 "
                    "vertices per quad), indexed (4 vertices + 6 indices), shared (indexed, corners "
-                   "identical between neighbouring quads stored once)")
-      ->check(CLI::IsMember({"independent", "indexed", "shared"}))
+                   "identical between neighbouring quads stored once), points (indexed, 1x1 "
+                   "leaves as one GL point each, sized to their footprint; not pixel-identical)")
+      ->check(CLI::IsMember({"independent", "indexed", "shared", "points"}))
       ->capture_default_str();
   walk->add_flag("--cull-background", cullBg,
                  "Leave out background quads whose surfaces the foreground keyframe sees (they "

@@ -233,7 +233,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   }
   bool firstFrameWritten = false;
   int backgroundSkips = 0, previousSkips = 0;
-  std::vector<double> drawnQuads, subdividedQuads;  // per keyframe, after subdivision
+  std::vector<double> drawnQuads, subdividedQuads, pointsPerKeyframe;  // per keyframe, after subdivision
   std::vector<double> foregroundUncovered;  // pixels the foreground layer left empty
   std::vector<double> bgCulled;  // background quads left out per frame (cullBackground)
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
@@ -273,6 +273,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                            (*kf)->mesh.stats.subdivideMs + (*kf)->mesh.stats.cornersMs + ws.uploadMs);
       quadsPerKeyframe.push_back(static_cast<double>((*kf)->mesh.stats.quads));
       drawnQuads.push_back(ws.drawnQuads);
+      pointsPerKeyframe.push_back(ws.points);
       subdividedQuads.push_back(ws.subdividedQuads);
       const auto& ms = (*kf)->mesh.stats;
       lodBuildMs.push_back(ms.deltaMs + ms.subdivideMs + ms.cornersMs);
@@ -653,6 +654,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["near_distance"] = opt.nearDistance;
   summary["subdivision"] = warp::subdivisionName(opt.warp.subdivision);
   summary["primitives"] = warp::primitivesName(opt.warp.primitives);
+  summary["points_per_keyframe"] = stats(pointsPerKeyframe);  // 1×1 leaves as points (--primitives points)
   summary["cull_background"] = opt.warp.cullBackground && opt.warp.primitives != warp::Primitives::Independent;
   summary["background_quads_culled"] = stats(bgCulled);
   summary["subdivide_cell_px"] = opt.warp.subdivideCellPx;

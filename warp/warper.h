@@ -40,8 +40,11 @@ enum class Primitives {
   Indexed,      // 4 vertices + 6 indices per quad, glDrawElements
   Shared,       // indexed, and corners bit-identical in position and texcoord
                 // (neighbouring leaves on one plane) stored once
+  Points,       // indexed, but 1×1 leaves (the edge strips' pixels) drawn as one
+                // GL point each, sized to the keyframe pixel's footprint in the
+                // new view (not pixel-identical: a square, one texel)
 };
-const char* primitivesName(Primitives p);  // "independent", "indexed", "shared"
+const char* primitivesName(Primitives p);  // "independent", "indexed", "shared", "points"
 bool parsePrimitives(const char* s, Primitives* out);
 
 struct WarpOptions {
@@ -87,6 +90,7 @@ struct WarpStats {
   int subdividedQuads = 0;  // upload: leaves cut into cells
   int drawnQuads = 0;       // upload: quads drawn after subdivision
   int vertices = 0;         // upload: vertices stored (quads and sky rectangles)
+  int points = 0;           // upload: 1×1 leaves drawn as points (Primitives::Points)
 };
 
 // One fused pass for both layers (Warper::warpPair).

@@ -25,12 +25,14 @@ const char* primitivesName(Primitives p) {
     case Primitives::Independent: return "independent";
     case Primitives::Indexed: return "indexed";
     case Primitives::Shared: return "shared";
+    case Primitives::Points: return "points";
   }
   return "?";
 }
 
 bool parsePrimitives(const char* s, Primitives* out) {
-  for (Primitives p : {Primitives::Independent, Primitives::Indexed, Primitives::Shared})
+  for (Primitives p :
+       {Primitives::Independent, Primitives::Indexed, Primitives::Shared, Primitives::Points})
     if (std::strcmp(s, primitivesName(p)) == 0) {
       *out = p;
       return true;
@@ -59,6 +61,9 @@ layout(location = 0) in vec4 aPos;
 layout(location = 1) in vec3 aTex;  // (u·q, v·q, q) or (u, v, 1), u,v normalised
 uniform mat4 uViewProj;
 uniform mat4 uView;
+// Points (1×1 leaves): side = new focal / keyframe focal × keyframe depth
+// (aTex.z) / new depth, in pixels, rounded up so neighbours overlap.
+uniform float uPointScale;
 out vec3 vTex;
 out float vEyeZ;
 void main() {
@@ -66,6 +71,7 @@ void main() {
   vTex = aTex;
   vEyeZ = -(uView * p).z;
   gl_Position = uViewProj * p;
+  gl_PointSize = uPointScale > 0.0 ? clamp(ceil(uPointScale * aTex.z / max(vEyeZ, 1e-6)), 1.0, 16.0) : 1.0;
 }
 )";
 
@@ -189,6 +195,9 @@ class GlWarpSource final : public WarpSource {
   int quads = 0;
   int skyRects = 0;  // drawn after the quads' vertices (indices) in the same buffer
   bool indexed = false;
+  int points = 0;  // Primitives::Points: vertices after the indexed ones, one per 1×1 leaf
+  int pointFirst = 0;
+  double focal = 0;  // the keyframe camera's, pixels
   long serial = 0;
   std::unique_ptr<CullData> cull;          // set when cullBackground and indexed
   mutable std::array<CullEntry, 2> culls;  // as a background, for the last two foregrounds
@@ -209,6 +218,7 @@ class GlWarper final : public Warper {
     uKey_ = program_.uniform("uKey");
     uSkyEyeZ_ = program_.uniform("uSkyEyeZ");
     uAlpha_ = program_.uniform("uAlpha");
+    uPointScale_ = program_.uniform("uPointScale");
     auto q = gl::Program::build("coverage query", kQueryVertex, kQueryFragment);
     if (!q) return q.error();
     queryProgram_ = std::move(*q);
@@ -288,8 +298,22 @@ class GlWarper final : public Warper {
       src->cull = std::make_unique<CullData>();
       src->cull->leafFirst.reserve(mesh.quads.size() + 1);
     }
+    pointScratch_.clear();
     for (const keyframe::Quad& q : mesh.quads) {
       if (cull) src->cull->leafFirst.push_back(static_cast<int>(indices_.size() / 6));
+      if (prim == Primitives::Points && q.rect.width() == 1 && q.rect.height() == 1) {
+        const double u = q.rect.x0 + 0.5, v = q.rect.y0 + 0.5;
+        const glm::dvec3 p = keyframe::quadPointAt(q, kf.camera, u, v);
+        const double w = keyframe::quadEyeZAt(q, u, v);
+        WarpVertex pv;
+        for (int c = 0; c < 3; ++c) pv.pos[c] = static_cast<float>(p[c]);
+        pv.pos[3] = 1.0f;
+        pv.tex[0] = static_cast<float>(u * invW * w);
+        pv.tex[1] = static_cast<float>(v * invH * w);
+        pv.tex[2] = static_cast<float>(w);
+        pointScratch_.push_back(pv);
+        continue;
+      }
       const int cells = cellsFor(q, kf);
       if (cells <= 1) {
         emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
@@ -332,7 +356,14 @@ class GlWarper final : public Warper {
       }
       addQuad(v);
     }
-    if (stats) stats->vertices = static_cast<int>(scratch_.size());
+    src->pointFirst = static_cast<int>(scratch_.size());
+    src->points = static_cast<int>(pointScratch_.size());
+    src->focal = kf.camera.fy();
+    scratch_.insert(scratch_.end(), pointScratch_.begin(), pointScratch_.end());
+    if (stats) {
+      stats->vertices = static_cast<int>(scratch_.size());
+      stats->points = src->points;
+    }
     if (!slot.vao) {
       glGenVertexArrays(1, &slot.vao);
       glBindVertexArray(slot.vao);
@@ -657,6 +688,7 @@ class GlWarper final : public Warper {
     glUniformMatrix4fv(uView_, 1, GL_FALSE, glm::value_ptr(view));
     glUniform1i(uKey_, 0);
     glUniform1f(uAlpha_, alpha);
+    glUniform1f(uPointScale_, 0.0f);
     glDisable(GL_CULL_FACE);  // quads may face away from the new view
     glDisable(GL_BLEND);
     glBindVertexArray(src.slot.vao);
@@ -679,23 +711,31 @@ class GlWarper final : public Warper {
       glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, culled->ibo);  // into the VAO, restored below
       glDrawElements(GL_TRIANGLES, culled->quads * 6, GL_UNSIGNED_INT, nullptr);
       glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, src.slot.ibo);
-    } else if (src.indexed)
+    } else if (src.indexed) {
       glDrawElements(GL_TRIANGLES, src.quads * 6, GL_UNSIGNED_INT, nullptr);
-    else
+    } else {
       glDrawArrays(GL_TRIANGLES, 0, src.quads * 6);
+    }
+    if (src.points > 0) {
+      glEnable(GL_PROGRAM_POINT_SIZE);
+      glUniform1f(uPointScale_, static_cast<float>(target.fy() / src.focal));
+      glDrawArrays(GL_POINTS, src.pointFirst, src.points);
+      glDisable(GL_PROGRAM_POINT_SIZE);
+    }
     glBindVertexArray(0);
   }
 
   std::vector<keyframe::PixelRect> skyRects_;
   WarpOptions options_;
   gl::Program program_;
-  int uViewProj_ = -1, uView_ = -1, uKey_ = -1, uSkyEyeZ_ = -1, uAlpha_ = -1;
+  int uViewProj_ = -1, uView_ = -1, uKey_ = -1, uSkyEyeZ_ = -1, uAlpha_ = -1, uPointScale_ = -1;
   gl::Program queryProgram_;
   GLuint emptyVao_ = 0, query_ = 0;
   gl::Framebuffer pairFbo_;
   std::vector<WarpVertex> scratch_;
   std::vector<std::uint32_t> indices_;
   std::vector<std::uint32_t> cullIndices_;
+  std::vector<WarpVertex> pointScratch_;
   std::vector<std::uint8_t> seen_;
   long serial_ = 0, cullClock_ = 0;
   std::unordered_map<WarpVertex, std::uint32_t, WarpVertexHash> shared_;  // Primitives::Shared
