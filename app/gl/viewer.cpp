@@ -822,7 +822,8 @@ Status Viewer::bakedKeyframes(FrameStats& st, int& a, int& b, bool& used) {
   if (!opt_.keyframeDb || dbCams_.front().width != width_ || dbCams_.front().height != height_)
     return {};
   int want0 = -1, want1 = -1;
-  if (play_ && playingBakedPath_ && playFrame_ >= 0 && playFrame_ <= dbFrames_.back()) {
+  if (play_ && playingBakedPath_ && playFrame_ >= dbFrames_.front() &&
+      playFrame_ <= dbFrames_.back()) {
     const auto it = std::lower_bound(dbFrames_.begin(), dbFrames_.end(), playFrame_);
     want1 = *it;
     want0 = *it == playFrame_ ? want1 : *(it - 1);
