@@ -134,6 +134,18 @@ void KeyframeCache::insert(std::unique_ptr<CachedKeyframe> e) {
   largestEntry_ = std::max(largestEntry_, b);
 }
 
+// Drops entry i; its buffers go back to the producer or become the spare.
+void KeyframeCache::remove(std::size_t i) {
+  bytes_ -= entryBytes_[i];
+  std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
+  entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
+  entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
+  if (producer_ && !source_)
+    producer_->recycle(std::move(gone));
+  else
+    spare_ = std::move(gone);
+}
+
 // Least recently used first, skipping `keep`, until within the bound.
 void KeyframeCache::evict(const std::vector<int>& keep) {
   for (std::size_t i = 0; i < entries_.size() && bytes_ > options_.maxBytes;) {
@@ -141,15 +153,8 @@ void KeyframeCache::evict(const std::vector<int>& keep) {
       ++i;
       continue;
     }
-    bytes_ -= entryBytes_[i];
-    std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
-    entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
-    entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
+    remove(i);
     ++evictions_;
-    if (producer_ && !source_)
-      producer_->recycle(std::move(gone));
-    else
-      spare_ = std::move(gone);
   }
 }
 
@@ -159,15 +164,8 @@ void KeyframeCache::releaseBefore(int frame) {
       ++i;
       continue;
     }
-    bytes_ -= entryBytes_[i];
-    std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
-    entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
-    entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
+    remove(i);
     ++released_;
-    if (producer_ && !source_)
-      producer_->recycle(std::move(gone));
-    else
-      spare_ = std::move(gone);
   }
 }
 

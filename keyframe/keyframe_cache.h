@@ -141,6 +141,7 @@ class KeyframeCache {
 
  private:
   void insert(std::unique_ptr<CachedKeyframe> e);
+  void remove(std::size_t i);
   void evict(const std::vector<int>& keep);
   std::unique_ptr<CachedKeyframe> freshEntry();
 

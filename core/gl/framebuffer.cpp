@@ -129,23 +129,7 @@ void Framebuffer::bindAndClear(float r, float g, float b, float a) {
   }
 }
 
-void Framebuffer::readColour(Image<Rgba8>& out) {
-  if (out.width() != width_ || out.height() != height_) out.resize(width_, height_);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.data());
-  // GL row 0 is the bottom: flip in place.
-  const std::size_t rowBytes = static_cast<std::size_t>(width_) * sizeof(Rgba8);
-  rowScratch_.resize(static_cast<std::size_t>(width_));
-  for (int y = 0; y < height_ / 2; ++y) {
-    Rgba8* a = &out(0, y);
-    Rgba8* b = &out(0, height_ - 1 - y);
-    std::memcpy(rowScratch_.data(), a, rowBytes);
-    std::memcpy(a, b, rowBytes);
-    std::memcpy(b, rowScratch_.data(), rowBytes);
-  }
-}
+void Framebuffer::readColour(Image<Rgba8>& out) { readColourRect(0, 0, width_, height_, out); }
 
 void Framebuffer::readColourRect(int x0, int y0, int w, int h, Image<Rgba8>& out) {
   HW_CHECK(x0 >= 0 && y0 >= 0 && w >= 1 && h >= 1 && x0 + w <= width_ && y0 + h <= height_);

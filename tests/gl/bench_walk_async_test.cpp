@@ -7,13 +7,12 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <thread>
 
 #include "bench/walk.h"
 #include "gl_fixture.h"
+#include "walk_fixture.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
@@ -22,32 +21,13 @@
 namespace hw {
 namespace {
 
-struct Indoor {
-  scenes::Scene scene;
-  scenes::CameraPath path;
-};
-
-Indoor smallIndoor(int size, int frames, int keyframeEvery) {
-  auto s = scenes::loadScene("indoor");
-  EXPECT_TRUE(s.ok()) << s.error().message;
-  auto p = scenes::defaultPathFor("indoor");
-  EXPECT_TRUE(p.ok()) << p.error().message;
-  Indoor in{std::move(*s), std::move(*p)};
-  in.path.width = in.path.height = size;
-  in.path.frames = frames;
-  in.path.keyframeEvery = keyframeEvery;
-  return in;
-}
-
-std::string readBytes(const std::string& file) {
-  std::ifstream f(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
+using test::Indoor;
+using test::readBytes;
 
 class AsyncKeyframesTest : public test::GlTest {};
 
 TEST_F(AsyncKeyframesTest, AsyncWalkGivesTheSameFramesAsTheSynchronousWalk) {
-  const Indoor in = smallIndoor(128, 23, 5);
+  const Indoor in = test::smallIndoor("indoor", 128, 23, 5);
   const std::string dir = ::testing::TempDir() + "walk_async_test";
   std::filesystem::remove_all(dir);
   nlohmann::json reports[2];
@@ -108,7 +88,7 @@ void walkCache(keyframe::KeyframeCache& cache, const keyframe::KeyframeSchedule&
 }
 
 TEST_F(AsyncKeyframesTest, CacheKeepsToItsMemoryBoundWithAndWithoutTheWorker) {
-  const Indoor in = smallIndoor(96, 31, 3);
+  const Indoor in = test::smallIndoor("indoor", 96, 31, 3);
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
   const keyframe::MeshSpec spec;
@@ -141,7 +121,7 @@ TEST_F(AsyncKeyframesTest, CacheKeepsToItsMemoryBoundWithAndWithoutTheWorker) {
 }
 
 TEST_F(AsyncKeyframesTest, ABoundBelowTwoKeyframesStillHoldsTheBracket) {
-  const Indoor in = smallIndoor(64, 12, 4);
+  const Indoor in = test::smallIndoor("indoor", 64, 12, 4);
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
   keyframe::KeyframeCache cache(
@@ -160,7 +140,7 @@ TEST_F(AsyncKeyframesTest, ABoundBelowTwoKeyframesStillHoldsTheBracket) {
 }
 
 TEST_F(AsyncKeyframesTest, ReleasedKeyframesLeaveTheCacheAndAWalkKeepsOnlyWhatCanStillBeUsed) {
-  const Indoor in = smallIndoor(64, 30, 3);
+  const Indoor in = test::smallIndoor("indoor", 64, 30, 3);
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
   // A bound far above the walk's keyframes: only releaseBefore drops them.
@@ -193,7 +173,7 @@ TEST_F(AsyncKeyframesTest, ReleasedKeyframesLeaveTheCacheAndAWalkKeepsOnlyWhatCa
 }
 
 TEST_F(AsyncKeyframesTest, KeyframesFromTheWorkerEqualTheSynchronousOnes) {
-  const Indoor in = smallIndoor(96, 20, 5);
+  const Indoor in = test::smallIndoor("indoor", 96, 20, 5);
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
   auto cameraOf = [&](int i) { return in.path.cameraAt(i); };
@@ -230,7 +210,7 @@ TEST_F(AsyncKeyframesTest, KeyframesFromTheWorkerEqualTheSynchronousOnes) {
 }
 
 TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
-  const Indoor in = smallIndoor(64, 40, 5);
+  const Indoor in = test::smallIndoor("indoor", 64, 40, 5);
   keyframe::AsyncKeyframeOptions ao;
   ao.maxQueued = 2;
   auto w = keyframe::AsyncKeyframes::create(
@@ -248,7 +228,7 @@ TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
 }
 
 TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
-  const Indoor in = smallIndoor(64, 20, 5);
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
   for (int mode = 0; mode < 2; ++mode) {
     SCOPED_TRACE(mode == 0 ? "steps pacing" : "time pacing");
     keyframe::AsyncKeyframeOptions ao;
@@ -281,7 +261,7 @@ TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
 }
 
 TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
-  const Indoor in = smallIndoor(128, 100, 5);
+  const Indoor in = test::smallIndoor("indoor", 128, 100, 5);
   keyframe::AsyncKeyframeOptions ao;
   ao.maxQueued = 8;
   for (int round = 0; round < 3; ++round) {
@@ -295,7 +275,7 @@ TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
 }
 
 TEST_F(AsyncKeyframesTest, ABuildErrorComesBackForItsFrameAndTheWorkerStillJoins) {
-  const Indoor in = smallIndoor(64, 20, 5);
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
   auto cameraOf = [&](int i) {
     Camera c = in.path.cameraAt(i);
     if (i == 10) c.width = 0;  // the renderer refuses a 0-pixel image
@@ -314,7 +294,7 @@ TEST_F(AsyncKeyframesTest, ABuildErrorComesBackForItsFrameAndTheWorkerStillJoins
 }
 
 TEST_F(AsyncKeyframesTest, AWorkerContextFailureIsAnErrorFromCreate) {
-  const Indoor in = smallIndoor(64, 20, 5);
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
   ::setenv("HW_GL_FAIL", "1", 1);
   auto w =
       keyframe::AsyncKeyframes::create(in.scene, [&](int i) { return in.path.cameraAt(i); }, {});

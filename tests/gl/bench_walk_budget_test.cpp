@@ -7,40 +7,24 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "bench/walk.h"
 #include "core/file_io.h"
 #include "gl_fixture.h"
+#include "walk_fixture.h"
 #include "keyframe/geometry_renderer.h"
 #include "scenes/loader.h"
 
 namespace hw {
 namespace {
 
-struct Indoor {
-  scenes::Scene scene;
-  scenes::CameraPath path;
-};
+using test::Indoor;
+using test::readBytes;
 
 // indoor:20k at 128², a short walk with keyframes far enough apart to leave holes.
 Indoor smallIndoor(int frames, int keyframeEvery) {
-  auto s = scenes::loadScene("indoor:20k");
-  EXPECT_TRUE(s.ok()) << s.error().message;
-  auto p = scenes::defaultPathFor("indoor");
-  EXPECT_TRUE(p.ok()) << p.error().message;
-  Indoor in{std::move(*s), std::move(*p)};
-  in.path.width = in.path.height = 128;
-  in.path.frames = frames;
-  in.path.keyframeEvery = keyframeEvery;
-  return in;
-}
-
-std::string readBytes(const std::string& file) {
-  std::ifstream f(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  return test::smallIndoor("indoor:20k", 128, frames, keyframeEvery);
 }
 
 std::string frameFile(const std::string& dir, int i) {
