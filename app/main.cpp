@@ -15,6 +15,7 @@
 #include "bench/bench_suite.h"
 #include "bench/export.h"
 #include "bench/slurm.h"
+#include "bench/schedule_oracle.h"
 #include "bench/schedule_study.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
@@ -788,6 +789,46 @@ int main(int argc, char** argv) {
   studyCmd->add_option("--out", studyOut, "Output directory")->capture_default_str();
   studyCmd->add_flag("--quiet", studyQuiet, "No progress lines");
 
+  // schedule-oracle
+  Common oracleC;
+  std::string oracleOut = "out/schedule-oracle", oracleTau = "2^11", oraclePlanarity = "region-local",
+              oracleSpacings = "4,6,8,10,15,20";
+  bool oracleNoMerge = false, oracleQuiet = false;
+  int oracleRef = 10, oracleMaxGap = 20, oracleWidth = 0, oracleHeight = 0;
+  auto* oracleCmd = app.add_subcommand(
+      "schedule-oracle",
+      "The best any keyframe schedule can do on a path: measures the PSNR of every in-between "
+      "frame for every keyframe pair up to --max-gap frames apart (--max-gap*(--max-gap+1)/2-1 "
+      "walks), then finds by dynamic programming the fewest keyframes whose median in-between "
+      "PSNR reaches each fixed schedule's. The bound for issue #8's error-driven schedule. "
+      "Writes oracle.json, oracle.csv, oracle.png");
+  addCommon(oracleCmd, oracleC);
+  oracleCmd->add_option("--tau", oracleTau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->capture_default_str();
+  oracleCmd->add_option("--planarity", oraclePlanarity, "stencil (paper) or region-local")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  oracleCmd->add_flag("--no-merge-strips", oracleNoMerge, "Do not merge coplanar leaves");
+  oracleCmd->add_option("--max-gap", oracleMaxGap,
+                        "Longest gap between keyframes considered, frames (cost grows with its square)")
+      ->check(CLI::Range(2, 60))
+      ->capture_default_str();
+  oracleCmd->add_option("--spacings", oracleSpacings,
+                        "Fixed schedules compared: keyframe_every values, frames, each <= --max-gap")
+      ->capture_default_str();
+  oracleCmd->add_option("--reference-spacing", oracleRef,
+                        "Fixed spacing the headline compares with, frames (one of --spacings)")
+      ->check(CLI::Range(1, 60))
+      ->capture_default_str();
+  oracleCmd->add_option("--width", oracleWidth, "Frame width, pixels (0 = the path's)")
+      ->check(CLI::Range(0, 8192))
+      ->capture_default_str();
+  oracleCmd->add_option("--height", oracleHeight, "Frame height, pixels (0 = the path's)")
+      ->check(CLI::Range(0, 8192))
+      ->capture_default_str();
+  oracleCmd->add_option("--out", oracleOut, "Output directory")->capture_default_str();
+  oracleCmd->add_flag("--quiet", oracleQuiet, "No progress line");
+
   // scenes fetch | list
   auto* scenesCmd = app.add_subcommand("scenes", "Real scenes from Debian packages");
   scenesCmd->require_subcommand(1);
@@ -1128,6 +1169,52 @@ int main(int argc, char** argv) {
                 h["adaptive_keyframes_at_p5_is_upper_bound"].get<bool>() ? "<= " : "",
                 n(h["adaptive_keyframes_per_100_at_reference_p5"]),
                 -100 * n(h["keyframe_reduction_at_p5"]), studyOut.c_str());
+    return 0;
+  }
+
+  if (oracleCmd->parsed()) {
+    bench::ScheduleOracleOptions so;
+    std::vector<double> v;
+    if (!parseList(oracleSpacings, &v) || v.empty())
+      return fail("--spacings: expected comma-separated frame counts like 4,10,20, got '" + oracleSpacings + "'");
+    so.fixedSpacings.clear();
+    for (double d : v) {
+      if (d < 1 || d != std::floor(d) || d > oracleMaxGap)
+        return fail("--spacings: expected whole numbers from 1 to --max-gap " +
+                    std::to_string(oracleMaxGap) + ", got '" + oracleSpacings + "'");
+      so.fixedSpacings.push_back(static_cast<int>(d));
+    }
+    if (std::find(so.fixedSpacings.begin(), so.fixedSpacings.end(), oracleRef) == so.fixedSpacings.end())
+      return fail("--reference-spacing: expected one of --spacings '" + oracleSpacings + "', got " +
+                  std::to_string(oracleRef));
+    if ((oracleWidth > 0 && oracleWidth < 16) || (oracleHeight > 0 && oracleHeight < 16))
+      return fail("--width/--height: expected 0 (the path's) or at least 16 pixels");
+    if (!parseTau(oracleTau, &so.walk.lod.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + oracleTau + "'");
+    keyframe::parsePlanarity(oraclePlanarity.c_str(), &so.walk.lod.planarity);
+    so.walk.lod.mergeStrips = !oracleNoMerge;
+    so.walk.depthMode = depthModeOf(oracleC.depth);
+    so.walk.maxFrames = oracleC.frames;
+    so.referenceSpacing = oracleRef;
+    so.maxGap = oracleMaxGap;
+    so.outDir = oracleOut;
+    so.progress = !oracleQuiet;
+    auto in = loadInputs(oracleC);
+    if (!in) return fail(in.error().message);
+    if (oracleWidth > 0) in->path.width = oracleWidth;
+    if (oracleHeight > 0) in->path.height = oracleHeight;
+    so.walk.glRenderer = in->context->renderer();
+    so.walk.glVersion = in->context->version();
+    auto res = bench::runScheduleOracle(in->scene, oracleC.scene, in->path, so);
+    if (!res) return fail(res.error().message);
+    const json& h = (*res)["headline"];
+    auto n = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
+    std::printf("schedule-oracle: fixed every %d: %.1f keyframes/100 frames, median %.2f dB; the best "
+                "schedule reaching that median: %.1f keyframes/100 (%+.0f %%; goal -30 %%)\n"
+                "  open %s/oracle.png\n",
+                oracleRef, n(h["reference_keyframes_per_100"]), n(h["reference_psnr_median"]),
+                n(h["oracle_keyframes_per_100"]), -100 * n(h["best_possible_reduction"]),
+                oracleOut.c_str());
     return 0;
   }
 

@@ -4,6 +4,9 @@
 // and more at a strict one, and the strict plan's frames are better.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
+#include "bench/schedule_oracle.h"
 #include "bench/walk.h"
 #include "gl_fixture.h"
 #include "keyframe/geometry_renderer.h"
@@ -87,6 +90,45 @@ TEST_F(ScheduleTest, LaxTargetUsesFewerKeyframesThanFixedAndStrictMoreWithBetter
   EXPECT_GT(ss["keyframes"].get<int>(), fixedKeys);
   EXPECT_GT(ss["psnr"]["median"].get<double>(), ls["psnr"]["median"].get<double>() + 3.0);
   EXPECT_GT(ss["psnr"]["p5"].get<double>(), ls["psnr"]["p5"].get<double>());
+}
+
+// The oracle's table is the walk: a fixed schedule scored from the table has
+// the walk's own median, and the oracle's schedule, walked, has exactly the
+// median the table promised, reached with no more keyframes than fixed.
+TEST_F(ScheduleTest, OracleTableScoresSchedulesExactlyAsTheWalkDoes) {
+  const scenes::Scene scene = scenes::makeIndoorScene(20000);
+  scenes::CameraPath path = shortPath();
+  path.frames = 25;
+  bench::ScheduleOracleOptions oo;
+  oo.outDir = ::testing::TempDir() + "hw_oracle_test";
+  oo.maxGap = 5;
+  oo.fixedSpacings = {2, 3, 4, 5};
+  oo.referenceSpacing = 4;
+  oo.progress = false;
+  auto doc = bench::runScheduleOracle(scene, "indoor:20k", path, oo);
+  ASSERT_TRUE(doc.ok()) << doc.error().message;
+  const auto& h = (*doc)["headline"];
+  ASSERT_TRUE(h["reference_walk_psnr_median"].is_number());
+  EXPECT_EQ(h["reference_walk_psnr_median"].get<double>(), h["reference_psnr_median"].get<double>());
+  EXPECT_EQ((*doc)["walks"].get<int>(), 14);
+  for (const char* f : {"oracle.json", "oracle.csv", "oracle.png", "segments.csv"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(oo.outDir + "/" + f)) << f;
+  int checked = 0;
+  for (const auto& row : (*doc)["fixed"]) {
+    ASSERT_TRUE(row["oracle_keyframes"].is_number()) << row.dump();
+    EXPECT_LE(row["oracle_keyframes"].get<int>(), row["fixed_keyframes"].get<int>());
+    EXPECT_GE(row["oracle_psnr_median"].get<double>(), row["fixed_psnr_lower_median"].get<double>());
+    bench::WalkOptions wo;
+    wo.progress = false;
+    wo.strips = 0;
+    wo.keyframeFrames = row["oracle_schedule"].get<std::vector<int>>();
+    auto walked = bench::runWalk(scene, "indoor", path, wo);
+    ASSERT_TRUE(walked.ok()) << walked.error().message;
+    EXPECT_EQ(walked->report["summary"]["psnr"]["median"].get<double>(),
+              row["oracle_psnr_median"].get<double>());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
 }
 
 }  // namespace
