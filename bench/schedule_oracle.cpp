@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "bench/plot.h"
 #include "core/check.h"
 #include "core/file_io.h"
 #include "core/machine.h"
 #include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
 
 namespace hw::bench {
 
@@ -71,53 +73,49 @@ Result<SchedulePsnr> schedulePsnr(const SegmentTable& table, const std::vector<i
 }
 
 OracleSchedule fewestKeyframesForMedian(const SegmentTable& table, double targetDb) {
-  const int n = table.frames(), gmax = table.maxGap();
   OracleSchedule best;
-  if (n < 3) return best;
-  // good[k0][g-1]: frames of segment (k0, k0+g) at or above the target.
-  std::vector<int> good(static_cast<std::size_t>(n) * static_cast<std::size_t>(gmax), 0);
-  auto goodAt = [&](int k0, int g) -> int& {
-    return good[static_cast<std::size_t>(k0) * static_cast<std::size_t>(gmax) +
-                static_cast<std::size_t>(g - 1)];
-  };
-  for (int k0 = 0; k0 < n; ++k0)
-    for (int g = 2; g <= gmax && k0 + g < n; ++g)
-      for (int f = k0 + 1; f < k0 + g; ++f) goodAt(k0, g) += table.at(k0, k0 + g, f) >= targetDb;
-  // dp[c][k]: most good in-between frames in [0, k] with c keyframes, the
-  // last at k; -1 = impossible.
-  const auto un = static_cast<std::size_t>(n);
-  std::vector<int> parent(un * un, -1);
-  std::vector<int> prev(un, -1), cur(un, -1);
-  prev[0] = 0;  // one keyframe: frame 0
-  for (int c = 2; c <= n; ++c) {
-    std::fill(cur.begin(), cur.end(), -1);
-    for (int k1 = 1; k1 < n; ++k1) {
-      int bestV = -1, bestK = -1;
-      for (int g = 1; g <= gmax && g <= k1; ++g) {
-        const int k0 = k1 - g;
-        if (prev[static_cast<std::size_t>(k0)] < 0) continue;
-        const int v = prev[static_cast<std::size_t>(k0)] + (g >= 2 ? goodAt(k0, g) : 0);
-        if (v > bestV) bestV = v, bestK = k0;
-      }
-      cur[static_cast<std::size_t>(k1)] = bestV;
-      parent[static_cast<std::size_t>(c - 1) * un + static_cast<std::size_t>(k1)] = bestK;
-    }
-    const int inBetween = n - c;
-    const int g = cur[un - 1];
-    if (inBetween >= 1 && g >= inBetween / 2 + 1) {
-      best.good = g;
-      best.keyframes.assign(static_cast<std::size_t>(c), 0);
-      int k = n - 1;
-      for (int i = c; i >= 1; --i) {
-        best.keyframes[static_cast<std::size_t>(i - 1)] = k;
-        if (i > 1) k = parent[static_cast<std::size_t>(i - 1) * un + static_cast<std::size_t>(k)];
-      }
-      HW_CHECK_EQ(best.keyframes.front(), 0);
-      return best;
-    }
-    std::swap(prev, cur);
-  }
+  best.keyframes = keyframe::fewestKeyframesForMedian(
+      table.frames(), targetDb, 1, table.maxGap(),
+      [&](int k0, int k1, int f) { return table.at(k0, k1, f); }, nullptr, &best.good);
   return best;
+}
+
+Result<SegmentTable> readSegmentTable(const std::string& text, const std::string& source,
+                                      int frames, int maxGap) {
+  SegmentTable t(frames, maxGap);
+  std::size_t pos = 0;
+  int line = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    const std::string row = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line;
+    if (line == 1) {
+      if (row != "k0,k1,frame,psnr")
+        return makeError(source + ":1: expected the header 'k0,k1,frame,psnr', got '" + row + "'");
+      continue;
+    }
+    if (row.empty()) continue;
+    int k0 = 0, k1 = 0, f = 0, used = 0;
+    double p = 0;
+    if (std::sscanf(row.c_str(), "%d,%d,%d,%lf%n", &k0, &k1, &f, &p, &used) != 4 ||
+        used != static_cast<int>(row.size()) || !std::isfinite(p))
+      return makeError(source + ":" + std::to_string(line) +
+                       ": expected 'k0,k1,frame,psnr' (integers, a finite dB value), got '" + row + "'");
+    if (!(k0 >= 0 && k0 < f && f < k1 && k1 < frames && k1 - k0 <= maxGap))
+      return makeError(source + ":" + std::to_string(line) + ": segment (" + std::to_string(k0) +
+                       ", " + std::to_string(k1) + ") frame " + std::to_string(f) +
+                       " is outside a " + std::to_string(frames) + "-frame path with gaps up to " +
+                       std::to_string(maxGap));
+    t.set(k0, k1, f, p);
+  }
+  if (line == 0) return makeError(source + ": empty, expected the header 'k0,k1,frame,psnr'");
+  if (!t.complete())
+    return makeError(source + ": incomplete: expected every frame of every segment up to " +
+                     std::to_string(maxGap) + " frames apart on " + std::to_string(frames) +
+                     " frames (--frames and --max-gap of the run that wrote it)");
+  return t;
 }
 
 namespace {
@@ -127,6 +125,12 @@ std::vector<int> fixedSchedule(int frames, int every) {
   for (int i = 0; i < frames; i += every) k.push_back(i);
   if (k.back() != frames - 1) k.push_back(frames - 1);
   return k;
+}
+
+std::string exact(double v) {  // round-trips through %lf
+  char b[64];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
 }
 
 json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -151,16 +155,24 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       opt.fixedSpacings.end())
     return makeError("schedule oracle: reference spacing " + std::to_string(opt.referenceSpacing) +
                      " is not one of the fixed spacings");
-  HW_TRY(ensureWritableDir(opt.outDir));
   Stopwatch all;
   const int frames =
       opt.walk.maxFrames > 0 ? std::min(opt.walk.maxFrames, path.frames) : path.frames;
   if (frames < 3) return makeError("schedule oracle: the path has " + std::to_string(frames) + " frames, expected >= 3");
-  SegmentTable table(frames, opt.maxGap);
-  const int walks = opt.maxGap * (opt.maxGap + 1) / 2 - 1;
+  std::optional<SegmentTable> loaded;  // before the output exists: a bad table leaves nothing
+  if (!opt.tableCsv.empty()) {
+    auto text = readFile(opt.tableCsv);
+    if (!text) return text.error();
+    auto t = readSegmentTable(*text, opt.tableCsv, frames, opt.maxGap);
+    if (!t) return t.error();
+    loaded = std::move(*t);
+  }
+  HW_TRY(ensureWritableDir(opt.outDir));
+  SegmentTable table = loaded ? std::move(*loaded) : SegmentTable(frames, opt.maxGap);
+  const int walks = opt.tableCsv.empty() ? opt.maxGap * (opt.maxGap + 1) / 2 - 1 : 0;
   int walkNo = 0;
   double referenceWalkMedian = std::nan("");
-  for (int g = 2; g <= opt.maxGap; ++g)
+  for (int g = 2; g <= opt.maxGap && opt.tableCsv.empty(); ++g)
     for (int o = 0; o < g; ++o) {
       ++walkNo;
       if (opt.progress)
@@ -189,7 +201,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       if (g == opt.referenceSpacing && o == 0 && res->report["summary"]["psnr"]["median"].is_number())
         referenceWalkMedian = res->report["summary"]["psnr"]["median"].get<double>();
     }
-  if (opt.progress) std::fprintf(stderr, "\n");
+  if (opt.progress && walks > 0) std::fprintf(stderr, "\n");
   if (!table.complete()) return makeError("schedule oracle: the walks left segments unmeasured");
   const double tableMs = all.ms();
 
@@ -259,7 +271,56 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     fx.push_back(r["fixed_keyframes_per_100"].get<double>());
     fmed.push_back(r["fixed_psnr_median"].get<double>());
   }
+  // The planner on the same table.
+  json plannerRows = json::array();
+  std::vector<double> pwx, pwmed, pmx, pmmed, pdx, pdmed;
+  double plannerBestKf = std::nan("");
+  std::string plannerBestCriterion;
+  double refLower = std::nan("");
+  for (const json& r : fixedRows)
+    if (r["spacing"].get<int>() == opt.referenceSpacing) refLower = r["fixed_psnr_lower_median"].get<double>();
+  if (opt.planner) {
+    keyframe::RenderOptions ropt;
+    ropt.depthMode = opt.walk.depthMode;
+    auto rr = keyframe::GeometryRenderer::create(scene, ropt);
+    if (!rr) return rr.error();
+    keyframe::KeyframeProbe probe(**rr, [&](int i) { return path.cameraAt(i); },
+                                  opt.plannerOptions.probeSize);
+    for (keyframe::PlanCriterion c :
+         {keyframe::PlanCriterion::WorstFrame, keyframe::PlanCriterion::SegmentMedian,
+          keyframe::PlanCriterion::WalkMedian}) {
+      for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += opt.plannerTargetStep) {
+        keyframe::PlannerOptions po = opt.plannerOptions;
+        po.targetPsnrDb = t;
+        po.criterion = c;
+        po.maxGap = std::min(po.maxGap, opt.maxGap);
+        po.minGap = std::min(po.minGap, po.maxGap);
+        auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
+        if (!plan) return plan.error();
+        auto sp = schedulePsnr(table, plan->keyframes);
+        if (!sp) return sp.error();
+        const double kf = 100.0 * static_cast<double>(plan->keyframes.size()) / frames;
+        plannerRows.push_back({{"criterion", keyframe::planCriterionName(c)},
+                               {"target", t},
+                               {"keyframes", plan->keyframes.size()},
+                               {"keyframes_per_100", kf},
+                               {"psnr_median", sp->median},
+                               {"psnr_lower_median", sp->lowerMedian},
+                               {"psnr_p5", sp->p5}});
+        (c == keyframe::PlanCriterion::WorstFrame ? pwx : c == keyframe::PlanCriterion::WalkMedian ? pdx : pmx).push_back(kf);
+        (c == keyframe::PlanCriterion::WorstFrame ? pwmed : c == keyframe::PlanCriterion::WalkMedian ? pdmed : pmmed).push_back(sp->median);
+        if (sp->lowerMedian >= refLower && !(kf >= plannerBestKf)) {
+          plannerBestKf = kf;
+          plannerBestCriterion = keyframe::planCriterionName(c);
+        }
+      }
+    }
+  }
   json headline = {{"reference_spacing", opt.referenceSpacing},
+                   {"reference_psnr_lower_median", refLower},
+                   {"planner_keyframes_per_100", finiteOrNull(plannerBestKf)},
+                   {"planner_criterion", plannerBestCriterion},
+                   {"planner_reduction", finiteOrNull(1.0 - plannerBestKf / refKf)},
                    {"reference_keyframes_per_100", refKf},
                    {"reference_psnr_median", refMedian},
                    {"reference_walk_psnr_median", finiteOrNull(referenceWalkMedian)},
@@ -281,8 +342,10 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
               {"tau", opt.walk.lod.tau},
               {"machine", machineInfo(opt.walk.glRenderer, opt.walk.glVersion)},
               {"headline", headline},
+              {"table_from", opt.tableCsv.empty() ? json("walks") : json(opt.tableCsv)},
               {"fixed", fixedRows},
-              {"oracle", oracleRows}};
+              {"oracle", oracleRows},
+              {"planner", plannerRows}};
   std::string csv =
       "spacing,fixed_keyframes,fixed_keyframes_per_100,fixed_psnr_median,fixed_psnr_p5,"
       "oracle_keyframes,oracle_keyframes_per_100,oracle_psnr_median,oracle_psnr_p5,keyframe_reduction\n";
@@ -301,9 +364,21 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     fs.x = fx, fs.y = fmed;
     os.label = "best possible schedule (oracle)";
     os.x = ox, os.y = omed;
+    Series pw, pm;
+    pw.label = "error-driven planner, worst-frame criterion";
+    pw.x = pwx, pw.y = pwmed;
+    pm.label = "error-driven planner, segment-median criterion";
+    pm.x = pmx, pm.y = pmmed;
+    Series pd;
+    pd.label = "error-driven planner, walk-median criterion (dynamic programming)";
+    pd.x = pdx, pd.y = pdmed;
+    pw.lines = pm.lines = pd.lines = false;
+    pd.colour = plotPalette()[4];
     const auto& pal = plotPalette();
     fs.colour = pal[0];
     os.colour = pal[2];
+    pw.colour = pal[1];
+    pm.colour = pal[3];
     PlotOptions po;
     po.title = "Median in-between PSNR vs keyframes: " + sceneLabel + " (" + std::to_string(frames) +
                " frames, " + std::to_string(path.width) + "x" + std::to_string(path.height) + ")";
@@ -311,7 +386,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     po.yLabel = "median in-between PSNR (dB)";
     po.width = 900;
     po.height = 560;
-    HW_TRY(writePlot(opt.outDir + "/oracle.png", {fs, os}, po));
+    HW_TRY(writePlot(opt.outDir + "/oracle.png", {fs, os, pw, pm, pd}, po));
   }
   HW_TRY(writeFileAtomic(opt.outDir + "/oracle.csv", csv));
   {
@@ -321,7 +396,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= opt.maxGap; ++k1)
         for (int f = k0 + 1; f < k1; ++f)
           seg += std::to_string(k0) + "," + std::to_string(k1) + "," + std::to_string(f) + "," +
-                 fmt(table.at(k0, k1, f), 4) + "\n";
+                 exact(table.at(k0, k1, f)) + "\n";
     HW_TRY(writeFileAtomic(opt.outDir + "/segments.csv", seg));
   }
   HW_TRY(writeFileAtomic(opt.outDir + "/oracle.json", doc.dump(1)));

@@ -18,6 +18,7 @@
 
 #include "bench/walk.h"
 #include "core/result.h"
+#include "keyframe/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -72,8 +73,24 @@ struct ScheduleOracleOptions {
   std::vector<int> fixedSpacings{4, 6, 8, 10, 15, 20};  // compared, each <= maxGap
   int referenceSpacing = 10;  // the headline compares with this fixed spacing
   WalkOptions walk;           // τ, planarity, depth, size, … (schedule, output set here)
+  // The table from an earlier run's segments.csv instead of walking (same
+  // scene, path, size and LOD options: not checkable from the file, the
+  // caller's promise); frames and max gap must match.
+  std::string tableCsv;
+  // The error-driven planner (keyframe/keyframe_planner.h) scored on the same
+  // table: one plan per target from plannerTargetMin to plannerTargetMax
+  // (dB, predicted) in plannerTargetStep steps, for the worst-frame,
+  // segment-median and walk-median criteria; its max gap is capped at maxGap.
+  bool planner = true;
+  keyframe::PlannerOptions plannerOptions;
+  double plannerTargetMin = 18, plannerTargetMax = 40, plannerTargetStep = 0.5;
   bool progress = true;
 };
+
+// Reads a segments.csv written by runScheduleOracle into a table of the
+// given size; errors name the line. Every entry must be present.
+Result<SegmentTable> readSegmentTable(const std::string& csvText, const std::string& source,
+                                      int frames, int maxGap);
 
 // A GL context must be current. Fills the table with walks, then writes
 // oracle.json (headline, fixed and oracle curves, schedules), oracle.csv,

@@ -26,6 +26,8 @@ const char* planCriterionName(PlanCriterion c) {
       return "mean";
     case PlanCriterion::SegmentMedian:
       return "median";
+    case PlanCriterion::WalkMedian:
+      return "walk-median";
   }
   return "?";
 }
@@ -34,6 +36,7 @@ bool parsePlanCriterion(const char* s, PlanCriterion* out) {
   if (std::strcmp(s, "worst") == 0) return *out = PlanCriterion::WorstFrame, true;
   if (std::strcmp(s, "mean") == 0) return *out = PlanCriterion::SegmentMean, true;
   if (std::strcmp(s, "median") == 0) return *out = PlanCriterion::SegmentMedian, true;
+  if (std::strcmp(s, "walk-median") == 0) return *out = PlanCriterion::WalkMedian, true;
   return false;
 }
 
@@ -47,6 +50,65 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
   return planKeyframes(frames, targetPsnrDb, search, predict, evaluations);
 }
 
+std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int minGap, int maxGap,
+                                          const FramePredictor& predict, long* evaluations,
+                                          int* good) {
+  HW_CHECK_GE(frames, 1);
+  HW_CHECK_GE(minGap, 1);
+  HW_CHECK_GE(maxGap, minGap);
+  long evals = 0;
+  if (evaluations) *evaluations = 0;
+  if (frames < 3) return {};
+  const auto un = static_cast<std::size_t>(frames), ug = static_cast<std::size_t>(maxGap);
+  // goodAt[k0·maxGap + g−1]: in-between frames of (k0, k0+g) predicted ≥ target.
+  std::vector<int> goodAt(un * ug, 0);
+  for (int k0 = 0; k0 < frames; ++k0)
+    for (int g = 2; g <= maxGap && k0 + g < frames; ++g) {
+      int n = 0;
+      for (int f = k0 + 1; f < k0 + g; ++f) {
+        ++evals;
+        n += predict(k0, k0 + g, f) >= targetPsnrDb;  // NaN counts as below
+      }
+      goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] = n;
+    }
+  if (evaluations) *evaluations = evals;
+  // prev/cur[k]: most good frames in [0, k] with c keyframes, the last at k
+  // (−1: impossible); parent[(c−1)·frames + k]: the keyframe before k.
+  std::vector<int> prev(un, -1), cur(un, -1), parent(un * un, -1);
+  prev[0] = 0;
+  const int last = frames - 1;
+  for (int c = 2; c <= frames; ++c) {
+    std::fill(cur.begin(), cur.end(), -1);
+    for (int k1 = 1; k1 < frames; ++k1) {
+      int bestV = -1, bestK = -1;
+      const int gFrom = k1 == last ? 1 : minGap;
+      for (int g = gFrom; g <= maxGap && g <= k1; ++g) {
+        const int k0 = k1 - g;
+        const int p = prev[static_cast<std::size_t>(k0)];
+        if (p < 0) continue;
+        const int v = p + (g >= 2 ? goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] : 0);
+        if (v > bestV) bestV = v, bestK = k0;
+      }
+      cur[static_cast<std::size_t>(k1)] = bestV;
+      parent[static_cast<std::size_t>(c - 1) * un + static_cast<std::size_t>(k1)] = bestK;
+    }
+    const int inBetween = frames - c, g = cur[un - 1];
+    if (inBetween >= 1 && g >= inBetween / 2 + 1) {
+      std::vector<int> keys(static_cast<std::size_t>(c), 0);
+      int k = last;
+      for (int i = c; i >= 1; --i) {
+        keys[static_cast<std::size_t>(i - 1)] = k;
+        if (i > 1) k = parent[static_cast<std::size_t>(i - 1) * un + static_cast<std::size_t>(k)];
+      }
+      HW_CHECK_EQ(keys.front(), 0);
+      if (good) *good = g;
+      return keys;
+    }
+    std::swap(prev, cur);
+  }
+  return {};
+}
+
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch& search,
                                const FramePredictor& predict, long* evaluations) {
   HW_CHECK_GE(frames, 1);
@@ -54,6 +116,15 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch
   HW_CHECK_GE(search.maxGap, search.minGap);
   HW_CHECK_GE(search.candidateStride, 1);
   HW_CHECK_GE(search.framesPerSegment, 0);
+  if (search.criterion == PlanCriterion::WalkMedian) {
+    std::vector<int> keys = fewestKeyframesForMedian(frames, targetPsnrDb, search.minGap,
+                                                     search.maxGap, predict, evaluations);
+    if (!keys.empty()) return keys;
+    // Unreachable: the densest schedule allowed (every minGap frames).
+    for (int k = 0; k < frames - 1; k += search.minGap) keys.push_back(k);
+    keys.push_back(frames - 1);
+    return keys;
+  }
   std::vector<int> keys{0};
   long evals = 0;
   const int last = frames - 1;

@@ -38,8 +38,14 @@ enum class PlanCriterion {
   // The median of the segment's in-between frames: then at least half of all
   // in-between frames are predicted ≥ target, i.e. the walk's median is.
   SegmentMedian,
+  // More than half of all in-between frames of the walk predicted ≥ target,
+  // with the fewest keyframes: not greedy but exact for the predictor, by
+  // dynamic programming over the whole path (fewestKeyframesForMedian). A
+  // segment may then be long and poor where others are short and good.
+  // Costs every (k0, k1, frame) with k1 − k0 ≤ maxGap in predictor calls.
+  WalkMedian,
 };
-const char* planCriterionName(PlanCriterion c);  // "worst", "mean", "median"
+const char* planCriterionName(PlanCriterion c);  // "worst", "mean", "median", "walk-median"
 bool parsePlanCriterion(const char* s, PlanCriterion* out);
 
 // Greedy forward plan: from keyframe k, the next keyframe is the farthest
@@ -56,6 +62,17 @@ bool parsePlanCriterion(const char* s, PlanCriterion* out);
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int maxGap,
                                const FramePredictor& predict, long* evaluations = nullptr,
                                PlanCriterion criterion = PlanCriterion::WorstFrame);
+
+// The fewest keyframes (frame 0 and frames−1 included; gaps from minGap to
+// maxGap, only the last may be shorter) such that more than half of the
+// in-between frames are predicted ≥ targetPsnrDb; exact, by dynamic
+// programming over (keyframes so far, last keyframe) of the most frames
+// predicted ≥ target. Empty when no schedule reaches it (at least one
+// in-between frame is required). `good` (optional): frames ≥ target.
+// Preconditions (checked): frames ≥ 1, 1 ≤ minGap ≤ maxGap.
+std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int minGap, int maxGap,
+                                          const FramePredictor& predict,
+                                          long* evaluations = nullptr, int* good = nullptr);
 
 // The same with the search made cheaper: candidates for the next keyframe
 // every candidateStride frames (from k + minGap; k + maxGap and the last frame

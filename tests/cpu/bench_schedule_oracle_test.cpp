@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -113,6 +115,35 @@ TEST(ScheduleOracle, RefusesSchedulesTheTableCannotAnswer) {
   EXPECT_FALSE(partial.complete());
   EXPECT_FALSE(schedulePsnr(partial, {0, 2, 5, 8, 9}).ok());
   EXPECT_TRUE(fewestKeyframesForMedian(SegmentTable(2, 3), 10.0).keyframes.empty());
+}
+
+TEST(ScheduleOracle, TableCsvRoundTripsAndBadFilesNameTheLine) {
+  std::mt19937 rng(3);
+  const SegmentTable t = randomTable(9, 3, rng);
+  std::string csv = "k0,k1,frame,psnr\n";
+  for (int k0 = 0; k0 < 9; ++k0)
+    for (int k1 = k0 + 2; k1 < 9 && k1 - k0 <= 3; ++k1)
+      for (int f = k0 + 1; f < k1; ++f) {
+        char b[96];
+        std::snprintf(b, sizeof b, "%d,%d,%d,%.17g\n", k0, k1, f, t.at(k0, k1, f));
+        csv += b;
+      }
+  auto back = readSegmentTable(csv, "t.csv", 9, 3);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->at(2, 5, 4), t.at(2, 5, 4));
+  EXPECT_EQ(back->at(6, 8, 7), t.at(6, 8, 7));
+  auto bad = [&](const std::string& text, int frames, int gap, const std::string& want) {
+    auto r = readSegmentTable(text, "t.csv", frames, gap);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find(want), std::string::npos) << r.error().message;
+  };
+  bad("", 9, 3, "t.csv: empty");
+  bad("frame,psnr\n", 9, 3, "t.csv:1: expected the header");
+  bad(csv + "1,3,x,2\n", 9, 3, "expected 'k0,k1,frame,psnr'");
+  bad(csv + "1,3,2,nan\n", 9, 3, "finite");
+  bad(csv + "0,4,2,30\n", 9, 3, "outside a 9-frame path with gaps up to 3");
+  bad(csv, 10, 3, "incomplete");   // another --frames
+  bad(csv, 9, 4, "incomplete");    // another --max-gap
 }
 
 }  // namespace

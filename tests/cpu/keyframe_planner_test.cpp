@@ -236,5 +236,64 @@ TEST(KeyframePlannerFit, RegressorsAreFiniteAtZeroAndGrowWithTheFeature) {
   EXPECT_FALSE(parsePredictor("psnr", &none));
 }
 
+// Walk-median: the fewest keyframes (gaps from minGap, only the last shorter)
+// with more than half of the frames predicted >= target, checked against every
+// schedule of a short path; planKeyframes' walk-median is that schedule, and
+// when no schedule reaches the target it falls back to the densest one.
+TEST(KeyframePlanner, WalkMedianIsTheFewestKeyframesOverEverySchedule) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(20.0, 40.0);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int frames = 7 + trial % 7, minGap = 1 + trial % 3, maxGap = minGap + 1 + trial % 4;
+    std::vector<double> table(static_cast<std::size_t>(frames * frames * frames));
+    for (double& v : table) v = u(rng);
+    const FramePredictor predict = [&](int k0, int k1, int f) {
+      return table[static_cast<std::size_t>((k0 * frames + k1) * frames + f)];
+    };
+    for (double target : {25.0, 30.0, 35.0}) {
+      int best = 0;
+      for (unsigned mask = 0; mask < (1u << (frames - 2)); ++mask) {
+        std::vector<int> keys{0};
+        for (int i = 1; i < frames - 1; ++i)
+          if (mask & (1u << (i - 1))) keys.push_back(i);
+        keys.push_back(frames - 1);
+        bool ok = true;
+        int good = 0;
+        for (std::size_t j = 1; j < keys.size() && ok; ++j) {
+          const int gap = keys[j] - keys[j - 1];
+          if (gap > maxGap || (gap < minGap && j + 1 < keys.size())) ok = false;
+          for (int f = keys[j - 1] + 1; ok && f < keys[j]; ++f) good += predict(keys[j - 1], keys[j], f) >= target;
+        }
+        const int inBetween = frames - static_cast<int>(keys.size());
+        if (ok && inBetween >= 1 && good >= inBetween / 2 + 1 &&
+            (best == 0 || static_cast<int>(keys.size()) < best))
+          best = static_cast<int>(keys.size());
+      }
+      long evals = 0;
+      const std::vector<int> dp = fewestKeyframesForMedian(frames, target, minGap, maxGap, predict, &evals);
+      ASSERT_EQ(static_cast<int>(dp.size()), best) << frames << " " << minGap << " " << maxGap << " " << target;
+      EXPECT_GT(evals, 0);
+      PlanSearch search;
+      search.minGap = minGap;
+      search.maxGap = maxGap;
+      search.criterion = PlanCriterion::WalkMedian;
+      const std::vector<int> planned = planKeyframes(frames, target, search, predict);
+      if (best > 0) {
+        EXPECT_EQ(planned, dp);
+      } else {  // unreachable: every minGap frames
+        std::vector<int> dense;
+        for (int k = 0; k < frames - 1; k += minGap) dense.push_back(k);
+        dense.push_back(frames - 1);
+        EXPECT_EQ(planned, dense);
+      }
+      expectValidSchedule(planned, frames, minGap, maxGap);
+    }
+  }
+  PlanCriterion c{};
+  ASSERT_TRUE(parsePlanCriterion("walk-median", &c));
+  EXPECT_EQ(c, PlanCriterion::WalkMedian);
+  EXPECT_STREQ(planCriterionName(c), "walk-median");
+}
+
 }  // namespace
 }  // namespace hw::keyframe
