@@ -514,12 +514,14 @@ int main(int argc, char** argv) {
   walk->add_option("--keyframe-pacing", keyframePacing,
                    "With --async-keyframes: how the worker spreads a keyframe over the frames "
                    "before its need: time (each frame allows budget-scale x last build ms / frames "
-                   "per keyframe of worker time), steps (--keyframe-steps-per-frame steps per "
-                   "frame) or none (as fast as it can); lifted while a frame waits")
-      ->check(CLI::IsMember({"time", "steps", "none"}))
+                   "per keyframe of worker time, alongside the frame), slices (the same budget, "
+                   "run at the end of each frame while the frame waits: the two never share the "
+                   "CPUs; counted in the frame's time), steps (--keyframe-steps-per-frame steps "
+                   "per frame) or none (as fast as it can); lifted while a frame waits")
+      ->check(CLI::IsMember({"time", "slices", "steps", "none"}))
       ->capture_default_str();
   walk->add_option("--keyframe-budget-scale", keyframeBudgetScale,
-                   "With --keyframe-pacing time: the worker's time per frame as a multiple of its "
+                   "With --keyframe-pacing time or slices: the worker's time per frame as a multiple of its "
                    "even share (> 1 lets it get ahead)")
       ->check(CLI::Range(1.0, 100.0))
       ->capture_default_str();
@@ -1317,9 +1319,10 @@ int main(int argc, char** argv) {
   wo.keyframeFlushTriangles = keyframeFlushTriangles;
   wo.keyframeWorkerNice = keyframeWorkerNice;
   wo.keyframeStepsPerFrame = keyframeStepsPerFrame;
-  wo.keyframePacing = keyframePacing == "time"    ? bench::WalkOptions::KeyframePacing::Time
-                     : keyframePacing == "steps" ? bench::WalkOptions::KeyframePacing::Steps
-                                                 : bench::WalkOptions::KeyframePacing::None;
+  wo.keyframePacing = keyframePacing == "time"     ? bench::WalkOptions::KeyframePacing::Time
+                     : keyframePacing == "slices" ? bench::WalkOptions::KeyframePacing::Slices
+                     : keyframePacing == "steps"  ? bench::WalkOptions::KeyframePacing::Steps
+                                                  : bench::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
   wo.frameBudgetMs = frameBudgetMs;
   wo.staleAfter = staleAfter;

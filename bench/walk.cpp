@@ -136,7 +136,9 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     aopt.workerNice = opt.keyframeWorkerNice;
     if (opt.keyframePacing == WalkOptions::KeyframePacing::Steps)
       aopt.stepsPerFrame = opt.keyframeStepsPerFrame;
-    if (opt.keyframePacing == WalkOptions::KeyframePacing::Time) {
+    if (opt.keyframePacing == WalkOptions::KeyframePacing::Time ||
+        opt.keyframePacing == WalkOptions::KeyframePacing::Slices) {
+      aopt.slices = opt.keyframePacing == WalkOptions::KeyframePacing::Slices;
       const std::size_t nk = schedule.keyframes().size();
       aopt.framesPerKeyframe = nk > 1 ? static_cast<double>(frames - 1) / static_cast<double>(nk - 1) : 1.0;
       aopt.budgetScale = opt.keyframeBudgetScale;
@@ -327,7 +329,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   // reference render and the metrics stay outside both).
   Stopwatch frameSw;
   std::chrono::steady_clock::time_point frameStart;
+  std::vector<double> sliceMs;  // keyframe slices run at the end of each frame (Slices pacing)
   auto endFrameWork = [&](json& ms, bool keyframeFrame) {
+    if (kfWorker && opt.keyframePacing == WalkOptions::KeyframePacing::Slices) {
+      const double slice = kfWorker->runSlice();  // part of the frame: the CPUs are the worker's now
+      ms["keyframe_slice"] = slice;
+      sliceMs.push_back(slice);
+    }
     const double work = frameSw.ms();
     ms["frame"] = work;
     if (budgetOn) {
@@ -707,13 +715,17 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["keyframe_stall_ms_total"] = stallTotal;
   summary["keyframe_flush_triangles"] = asyncKf ? json(opt.keyframeFlushTriangles) : json(nullptr);
   summary["keyframe_worker_nice"] = asyncKf ? json(opt.keyframeWorkerNice) : json(nullptr);
-  const char* pacingName = opt.keyframePacing == WalkOptions::KeyframePacing::Time    ? "time"
-                           : opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? "steps"
-                                                                                      : "none";
+  const char* pacingName = opt.keyframePacing == WalkOptions::KeyframePacing::Time     ? "time"
+                           : opt.keyframePacing == WalkOptions::KeyframePacing::Slices ? "slices"
+                           : opt.keyframePacing == WalkOptions::KeyframePacing::Steps  ? "steps"
+                                                                                       : "none";
   summary["keyframe_pacing"] = asyncKf ? json(pacingName) : json(nullptr);
   summary["keyframe_budget_scale"] =
-      asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Time ? json(opt.keyframeBudgetScale)
-                                                                         : json(nullptr);
+      asyncKf && (opt.keyframePacing == WalkOptions::KeyframePacing::Time ||
+                  opt.keyframePacing == WalkOptions::KeyframePacing::Slices)
+          ? json(opt.keyframeBudgetScale)
+          : json(nullptr);
+  summary["keyframe_slice_ms"] = sliceMs.empty() ? json(nullptr) : stats(sliceMs);
   summary["keyframe_steps_per_frame"] =
       asyncKf && opt.keyframePacing == WalkOptions::KeyframePacing::Steps ? json(opt.keyframeStepsPerFrame)
                                                                           : json(nullptr);

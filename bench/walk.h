@@ -83,7 +83,10 @@ struct WalkOptions {
   //        keyframe) of worker time (AsyncKeyframeOptions::framesPerKeyframe);
   //  Steps: keyframeStepsPerFrame steps (render pieces, readback, mesh build
   //        steps) per frame;  None: as fast as it can.
-  enum class KeyframePacing { None, Steps, Time };
+  //  Slices: the Time budget, but the worker runs it at the end of each
+  //        frame's work while the main thread waits (AsyncKeyframeOptions::
+  //        slices), counted in the frame's time (ms "keyframe_slice").
+  enum class KeyframePacing { None, Steps, Time, Slices };
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;

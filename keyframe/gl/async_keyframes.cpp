@@ -44,12 +44,29 @@ AsyncKeyframes::~AsyncKeyframes() {
 
 void AsyncKeyframes::endStep() {
   const double now = clock_.ms();
+  lastStepMs_ = now - stepStartMs_;
   debtMs_ += now - stepStartMs_;
   buildStepMs_ += now - stepStartMs_;
   stepStartMs_ = now;
 }
 
 void AsyncKeyframes::pace() {
+  if (options_.slices && options_.framesPerKeyframe > 0) {
+    endStep();
+    std::unique_lock lock(mutex_);
+    if (sliceOpen_) sliceUsedMs_ += lastStepMs_;
+    auto canRun = [&] {
+      return stop_ || waiting_ > 0 || (sliceOpen_ && sliceUsedMs_ < sliceBudgetMs_);
+    };
+    if (!canRun()) {
+      parked_ = true;
+      doneCv_.notify_all();  // the slice is used up
+      workCv_.wait(lock, canRun);
+      parked_ = false;
+    }
+    stepStartMs_ = clock_.ms();
+    return;
+  }
   if (options_.framesPerKeyframe > 0) {
     endStep();
     std::unique_lock lock(mutex_);
@@ -80,6 +97,22 @@ void AsyncKeyframes::pace() {
   workCv_.wait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
   ++steps_;
   stepStartMs_ = clock_.ms();
+}
+
+double AsyncKeyframes::runSlice() {
+  if (!options_.slices || options_.framesPerKeyframe <= 0) return 0.0;
+  Stopwatch sw;
+  std::unique_lock lock(mutex_);
+  if (workerExited_ || (idle_ && queue_.empty())) return 0.0;
+  sliceBudgetMs_ = std::max(0.5, options_.budgetScale * sharedLastBuildMs_ / options_.framesPerKeyframe);
+  sliceUsedMs_ = 0;
+  sliceOpen_ = true;
+  workCv_.notify_all();
+  doneCv_.wait(lock, [&] {
+    return workerExited_ || (idle_ && queue_.empty()) || (parked_ && sliceUsedMs_ >= sliceBudgetMs_);
+  });
+  sliceOpen_ = false;
+  return sw.ms();
 }
 
 void AsyncKeyframes::frameTick() {
@@ -130,7 +163,10 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
 
   std::unique_lock lock(mutex_);
   while (true) {
+    idle_ = true;
+    doneCv_.notify_all();  // an open slice has nothing to run
     workCv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    idle_ = false;
     if (stop_) break;
     const int frame = queue_.front();
     queue_.pop_front();
@@ -151,6 +187,7 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
     endStep();
     lastBuildMs_ = buildStepMs_;
     lock.lock();
+    sharedLastBuildMs_ = lastBuildMs_;
     building_ = -1;
     busyMs_ += buildStepMs_;
     if (s.ok()) {

@@ -59,6 +59,14 @@ struct AsyncKeyframeOptions {
   // precede its need. Lifted while the main thread waits.
   double framesPerKeyframe = 0;
   double budgetScale = 2.0;
+  // Slices (with framesPerKeyframe > 0): the worker runs only inside
+  // runSlice(), which the main thread calls between frames and which returns
+  // once the worker has used the slice (the same budget as time pacing) or
+  // has nothing to do. The two never share the CPUs or llvmpipe's rasteriser
+  // queue, so a frame's time is its own work plus an even slice of keyframe
+  // work instead of its work slowed by an unknown share of a keyframe's.
+  // Lifted while the main thread waits for a keyframe, as the others.
+  bool slices = false;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {
@@ -84,6 +92,10 @@ class AsyncKeyframes final : public KeyframeProducer {
 
   // The main thread started a frame (pacing; see stepsPerFrame).
   void frameTick();
+  // Main thread, with AsyncKeyframeOptions::slices, between frames: lets the
+  // worker run one slice and waits for it. Returns the ms waited (0 without
+  // slices, or when the worker has nothing to do).
+  double runSlice();
 
   int built() const;            // keyframes the worker finished
   double workerBusyMs() const;  // time it spent building them (pacing waits excluded)
@@ -116,6 +128,11 @@ class AsyncKeyframes final : public KeyframeProducer {
   // current frame window minus budgets granted, and the last build's cost.
   double debtMs_ = 0, lastBuildMs_ = 0, stepStartMs_ = 0, buildStepMs_ = 0;
   long long paidTicks_ = 0;
+  // Slices (under mutex_): a slice is open, its budget and what the worker
+  // used of it, the worker is parked in pace() / waiting for a job, and the
+  // last build's cost as the main thread may read it.
+  bool sliceOpen_ = false, parked_ = false, idle_ = false;
+  double sliceBudgetMs_ = 0, sliceUsedMs_ = 0, lastStepMs_ = 0, sharedLastBuildMs_ = 0;
   Stopwatch clock_;
   int built_ = 0;
   double busyMs_ = 0;

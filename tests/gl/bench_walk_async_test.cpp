@@ -30,15 +30,17 @@ TEST_F(AsyncKeyframesTest, AsyncWalkGivesTheSameFramesAsTheSynchronousWalk) {
   const Indoor in = test::smallIndoor("indoor", 128, 23, 5);
   const std::string dir = ::testing::TempDir() + "walk_async_test";
   std::filesystem::remove_all(dir);
-  nlohmann::json reports[2];
-  for (int async = 0; async < 2; ++async) {
+  nlohmann::json reports[3];
+  const char* names[3] = {"/sync", "/async", "/slices"};
+  for (int async = 0; async < 3; ++async) {
     bench::WalkOptions o;
     o.progress = false;
     o.strips = 0;
     o.saveFrames = true;
-    o.outDir = dir + (async ? "/async" : "/sync");
-    o.asyncKeyframes = async == 1;
+    o.outDir = dir + names[async];
+    o.asyncKeyframes = async >= 1;
     o.keyframePrefetch = 2;
+    if (async == 2) o.keyframePacing = bench::WalkOptions::KeyframePacing::Slices;
     auto r = bench::runWalk(in.scene, "indoor", in.path, o);
     ASSERT_TRUE(r.ok()) << r.error().message;
     reports[async] = r->report;
@@ -62,8 +64,15 @@ TEST_F(AsyncKeyframesTest, AsyncWalkGivesTheSameFramesAsTheSynchronousWalk) {
     const std::string a = readBytes(dir + "/sync" + name), b = readBytes(dir + "/async" + name);
     ASSERT_FALSE(a.empty()) << name;
     EXPECT_TRUE(a == b) << "frame " << i << " differs between sync and async keyframes";
+    EXPECT_TRUE(a == readBytes(dir + "/slices" + name)) << "frame " << i << " differs with slices";
+    EXPECT_TRUE(reports[2]["frames"][i]["ms"]["keyframe_slice"].is_number()) << "frame " << i;
   }
   EXPECT_EQ(s1["frame_ms"]["count"], 23);
+  const auto& s2 = reports[2]["summary"];
+  EXPECT_EQ(s2["keyframe_pacing"], "slices");
+  EXPECT_EQ(s2["keyframe_slice_ms"]["count"], 23);
+  EXPECT_GT(s2["keyframe_slice_ms"]["max"].get<double>(), 0.0);  // keyframes were built in slices
+  EXPECT_TRUE(s1["keyframe_slice_ms"].is_null());
 }
 
 // Builds every keyframe along the path through prefetch() and get() and
@@ -229,14 +238,15 @@ TEST_F(AsyncKeyframesTest, QueueIsBoundedAndAnUnrequestedTakeWaits) {
 
 TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
   const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
-  for (int mode = 0; mode < 2; ++mode) {
-    SCOPED_TRACE(mode == 0 ? "steps pacing" : "time pacing");
+  for (int mode = 0; mode < 3; ++mode) {
+    SCOPED_TRACE(mode == 0 ? "steps pacing" : mode == 1 ? "time pacing" : "slices");
     keyframe::AsyncKeyframeOptions ao;
     if (mode == 0) {
       ao.stepsPerFrame = 1;
     } else {
       ao.framesPerKeyframe = 1000;  // a tiny budget per frame
       ao.budgetScale = 1;
+      ao.slices = mode == 2;
     }
     ao.flushEveryTriangles = 1000;  // many steps per keyframe
     auto w = keyframe::AsyncKeyframes::create(
@@ -252,6 +262,17 @@ TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
     (*w)->frameTick();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     EXPECT_FALSE((*w)->ready(5));
+    if (mode == 2) {
+      // Slices: the worker runs only inside runSlice(), which returns once
+      // the slice is used; with nothing queued it returns at once.
+      int slices = 0;
+      for (; slices < 20000 && !(*w)->ready(5); ++slices) (*w)->runSlice();
+      EXPECT_TRUE((*w)->ready(5));
+      EXPECT_GT(slices, 1);  // one slice is not a whole keyframe
+      ASSERT_TRUE((*w)->take(5, &e, &waited).ok());
+      EXPECT_EQ((*w)->runSlice(), 0.0);  // idle: nothing to run
+      continue;
+    }
     for (int t = 0; t < 20000 && !(*w)->ready(5); ++t) {
       (*w)->frameTick();
       std::this_thread::sleep_for(std::chrono::microseconds(500));
