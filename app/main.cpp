@@ -684,8 +684,10 @@ int main(int argc, char** argv) {
   benchCmd->add_flag("--quiet", benchQuiet, "No progress lines");
   benchCmd->add_option("--only", benchOnly,
                        "Run only these parts (comma-separated): complexity, trace, spacing, skips "
-                       "(skips = issue #8's table: each skip on and off on indoor, outdoor, "
-                       "q3:oa_dm5 and torcs:forza; real scenes need 'scenes fetch --outdoor')")
+                       "(skips = issue #8's table: each skip on and off, and --subdivide none, "
+                       "uniform, adaptive with PSNR also over the pixels of leaves larger than a "
+                       "cell, on indoor, outdoor, q3:oa_dm5 and torcs:forza; real scenes need "
+                       "'scenes fetch --outdoor')")
       ->delimiter(',')
       ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips"}));
 

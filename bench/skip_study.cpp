@@ -9,6 +9,7 @@
 #include "core/timer.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
+#include "warp/warper.h"
 
 namespace hw::bench {
 namespace {
@@ -16,6 +17,7 @@ namespace {
 using nlohmann::json;
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 struct Skip {
   const char* name;
@@ -26,11 +28,18 @@ struct Skip {
 };
 
 json measure(const json& s) {
+  const double pixels = num(s["resolution"][0]) * num(s["resolution"][1]);
   return {{"in_between_ms_median", s["in_between_ms"]["median"]},
           {"in_between_ms_p95", s["in_between_ms"]["p95"]},
           {"psnr_median", s["psnr"]["median"]},
           {"psnr_p5", s["psnr"]["p5"]},
-          {"holes_before_fallback_median", s["holes_before_fallback"]["median"]}};
+          {"holes_before_fallback_median", s["holes_before_fallback"]["median"]},
+          {"psnr_large_quads_median", s["psnr_large_quads"]["median"]},
+          {"psnr_large_quads_p5", s["psnr_large_quads"]["p5"]},
+          {"large_quad_pixel_share_median",
+           finite(num(s["large_quad_pixels"]["median"]) / pixels)},
+          {"drawn_quads_per_keyframe_median", s["drawn_quads_per_keyframe"]["median"]},
+          {"subdivided_quads_per_keyframe_median", s["subdivided_quads_per_keyframe"]["median"]}};
 }
 
 }  // namespace
@@ -100,6 +109,23 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
       }
       rows.push_back(row);
     }
+    // Subdivision of large quads (paper §2.1): each mode ("on") against the
+    // default, none ("off"); PSNR also over the pixels large leaves drew.
+    for (warp::Subdivision m :
+         {warp::Subdivision::None, warp::Subdivision::Uniform, warp::Subdivision::Adaptive}) {
+      Result<json> with = *base;
+      if (m != warp::Subdivision::None) with = walk([m](WalkOptions& w) { w.warp.subdivision = m; });
+      if (!with) return with.error();
+      rows.push_back({{"scene", sc.spec},
+                      {"triangles", (*base)["scene"]["triangles"]},
+                      {"skip", std::string("subdivision ") + warp::subdivisionName(m)},
+                      {"what", "large quads cut into cells at upload; on = this mode, off = none"},
+                      {"default", m == warp::Subdivision::None ? "on" : "off"},
+                      {"on", measure(*with)},
+                      {"off", measure(*base)},
+                      {"in_between_frames", (*with)["in_between_frames"]},
+                      {"subdivide_cell_px", (*with)["subdivide_cell_px"]}});
+    }
   }
   return json{{"rows", rows},
               {"unavailable", unavailable},
@@ -114,7 +140,10 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
 std::string skipStudyCsv(const json& study) {
   std::string csv =
       "scene,triangles,skip,default,fired_frames,in_between_frames,ms_on_median,ms_off_median,"
-      "ms_on_p95,ms_off_p95,psnr_on_median,psnr_off_median,psnr_on_p5,psnr_off_p5\n";
+      "ms_on_p95,ms_off_p95,psnr_on_median,psnr_off_median,psnr_on_p5,psnr_off_p5,"
+      "psnr_large_on_median,psnr_large_off_median,psnr_large_on_p5,psnr_large_off_p5,"
+      "large_px_share_on,large_px_share_off,drawn_quads_on,drawn_quads_off,subdivided_quads_on,"
+      "subdivided_quads_off\n";
   for (const json& r : study["rows"]) {
     csv += r["scene"].get<std::string>() + "," + std::to_string(r["triangles"].get<std::size_t>()) +
            "," + r["skip"].get<std::string>() + "," + r["default"].get<std::string>() + "," +
@@ -123,7 +152,17 @@ std::string skipStudyCsv(const json& study) {
            fmt(num(r["on"]["in_between_ms_median"])) + "," + fmt(num(r["off"]["in_between_ms_median"])) +
            "," + fmt(num(r["on"]["in_between_ms_p95"])) + "," + fmt(num(r["off"]["in_between_ms_p95"])) +
            "," + fmt(num(r["on"]["psnr_median"])) + "," + fmt(num(r["off"]["psnr_median"])) + "," +
-           fmt(num(r["on"]["psnr_p5"])) + "," + fmt(num(r["off"]["psnr_p5"])) + "\n";
+           fmt(num(r["on"]["psnr_p5"])) + "," + fmt(num(r["off"]["psnr_p5"]));
+    for (const char* k : {"psnr_large_quads_median", "psnr_large_quads_p5",
+                          "large_quad_pixel_share_median", "drawn_quads_per_keyframe_median",
+                          "subdivided_quads_per_keyframe_median"}) {
+      const int decimals = std::string(k) == "large_quad_pixel_share_median" ? 4 : 2;
+      csv += ',';
+      csv += fmt(num(r["on"][k]), decimals);
+      csv += ',';
+      csv += fmt(num(r["off"][k]), decimals);
+    }
+    csv += "\n";
   }
   return csv;
 }

@@ -4,7 +4,9 @@
 // test that drops the background layer, the previous-frame pass, the sky
 // drawn as rectangles at infinity instead of leaving empty pixels as holes,
 // near objects drawn directly), the same walk with it on and off: in-between
-// ms and PSNR, and how often it fired. Part (d) of `hybridwalk bench`.
+// ms and PSNR, and how often it fired. Then each subdivision mode of large
+// quads (none, uniform, adaptive) against none, with PSNR also over the pixels
+// large leaves drew (walk summary psnr_large_quads). Part (d) of `hybridwalk bench`.
 #include <string>
 #include <vector>
 

@@ -240,6 +240,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::vector<double> bgCulled;  // background quads left out per frame (cullBackground)
   std::vector<double> psnrs, ssims, holesBefore, holesAfter, inBetweenMs, referenceMs,
       keyframeMs, quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves;
+  // Pixels drawn from large leaves (warp::Layer::largeQuad), per I frame.
+  std::vector<double> psnrLargeQuads, largeQuadPixels;
+  // Forgets that pixel p came from a large leaf (a near object or refresh drew it).
+  auto notLargeQuad = [&layerA, &layerB](std::size_t p) {
+    for (warp::Layer* l : {&layerA, &layerB})
+      if (p < l->largeQuad.size()) l->largeQuad.data()[p] = 0;
+  };
   Progress progress(opt.progress, frames, "walk");
   long long glErrors = 0;  // glGetError at each frame's end; plus KHR_debug when installed
   const long long debugErrors0 = gl::debugCallbackErrors();
@@ -306,6 +313,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
         const float z = haveZ ? behindZ.data()[p] : 0.0f;
         const bool empty = frame.holesBefore.data()[p] != 0 || z <= 0.0f;
         if (empty || nearEyeZ.data()[p] < z) {
+          notLargeQuad(p);
           frame.colour.data()[p] = nearColour.data()[p];
           frame.holesBefore.data()[p] = 0;
           frame.valid.data()[p] = 1;
@@ -538,6 +546,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
             Stopwatch one;
             HW_TRY(renderer.renderColourRect(cam, r, refreshColour));
             gapfill::applyRefresh(r, refreshColour, frame);
+            for (int y = r.y0; y < r.y1; ++y)
+              for (int x = r.x0; x < r.x1; ++x)
+                notLargeQuad(static_cast<std::size_t>(y) * static_cast<std::size_t>(cam.width) +
+                             static_cast<std::size_t>(x));
             const double t = one.ms();
             refreshCost.update(r.area(), t);
             refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
@@ -593,6 +605,26 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       } else {
         fj["psnr"] = nullptr;
         fj["ssim"] = nullptr;
+      }
+      // Pixels whose colour came from a large leaf of either layer (the ones
+      // subdivision changes; previous-frame fill, near objects, refresh: not).
+      // Unknown with the depth merge, which does not say which layer won.
+      if (opt.warp.markLargeQuads && (fused || opt.compose.mode == gapfill::ComposeMode::Overlay)) {
+        Image<std::uint8_t>& large = layerA.largeQuad;
+        if (!fused && !bgSkipped)
+          for (std::size_t p = 0; p < large.size(); ++p)
+            if (!layerA.coverage.data()[p])
+              large.data()[p] = layerB.coverage.data()[p] ? layerB.largeQuad.data()[p] : 0;
+        long long count = 0;
+        for (std::size_t p = 0; p < large.size(); ++p) count += large.data()[p];
+        fj["large_quad_pixels"] = count;
+        largeQuadPixels.push_back(static_cast<double>(count));
+        const double pl = opt.reference ? psnrCapped(frame.colour, reference, large) : std::nan("");
+        fj["psnr_large_quads"] = finiteOrNull(pl);  // NaN: no such pixel or no reference
+        if (std::isfinite(pl)) psnrLargeQuads.push_back(pl);
+      } else {
+        fj["large_quad_pixels"] = nullptr;
+        fj["psnr_large_quads"] = nullptr;
       }
       if (writing && opt.reference &&
           std::find(stripFrames.begin(), stripFrames.end(), i) != stripFrames.end()) {
@@ -675,6 +707,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["foreground_uncovered_pixels"] = stats(foregroundUncovered);
   summary["previous_frame_pass_skipped_frames"] = previousSkips;
   summary["psnr"] = stats(psnrs);
+  summary["psnr_large_quads"] = stats(psnrLargeQuads);
+  summary["large_quad_pixels"] = stats(largeQuadPixels);
   summary["ssim"] = stats(ssims);
   summary["holes_before_fallback"] = stats(holesBefore);
   summary["holes_after_fallback"] = stats(holesAfter);

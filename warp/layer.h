@@ -17,6 +17,11 @@ struct Layer {
                                 // 1 = foreground layer, 2 = background layer)
   Image<float> eyeZ;            // distance along the current camera's W; 0 where not
                                 // covered, kSkyEyeZ for the sky backdrop
+  // 1 where the pixel was drawn from a subdivision candidate: a leaf larger
+  // than one cell (WarpOptions::subdivideCellPx), the leaves Subdivision::
+  // Uniform cuts, whatever the mode; 0 elsewhere (sky, small leaves, empty).
+  // Empty (0×0) when WarpOptions::markLargeQuads is off.
+  Image<std::uint8_t> largeQuad;
 };
 
 }  // namespace hw::warp

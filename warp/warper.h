@@ -67,6 +67,13 @@ struct WarpOptions {
   // planar; edge corners stay on the leaf's plane so neighbours still meet.
   // Off: every cell corner lies on the plane (only the affine mapping gains).
   bool subdivideFromDepth = true;
+  // Fill Layer::largeQuad (pixels drawn from leaves larger than one cell, in
+  // every Subdivision mode) so their distortion can be measured apart. Free:
+  // those leaves' texcoords are negated, which textureProj divides away, and
+  // the fragment shader marks them in the alpha it writes anyway. Pixels are
+  // identical with it off; Primitives::Shared then stores a few more vertices
+  // (a candidate's corners no longer match its neighbours').
+  bool markLargeQuads = true;
   TexcoordMode texcoords = TexcoordMode::Projective;
   // Far plane at infinity for layers, so half-pixel-expanded horizon corners
   // beyond the keyframe's far plane are not clipped (DESIGN.md).

@@ -27,11 +27,16 @@ check "bench.json" grep -q '"complexity"' "$tmp/b/bench.json"
 for p in complexity trace spacing; do check "$p.png" is_png "$tmp/b/$p.png"; done
 check "complexity.csv rows" test "$(($(wc -l <"$tmp/b/complexity.csv") - 1))" -eq 8
 check "index.html" grep -q 'Keyframe spacing' "$tmp/b/index.html"
-# (d) the skip table: 5 skips on indoor; the lossless ones leave PSNR unchanged,
-# the sky and near-object rows are the only ones allowed to change it.
-check "skips.csv has 5 rows" test "$(($(wc -l <"$tmp/b/skips.csv") - 1))" -eq 5
+# (d) the skip table: 5 skips + 3 subdivision modes on indoor; the lossless ones leave PSNR unchanged,
+# the sky, near-object and subdivision rows are the only ones allowed to change it.
+check "skips.csv has 8 rows" test "$(($(wc -l <"$tmp/b/skips.csv") - 1))" -eq 8
 check "lossless skips keep PSNR" awk -F, 'NR > 1 && $3 ~ /fused|background|previous/ && $11 != $12 { bad = 1 } END { exit bad }' "$tmp/b/skips.csv"
 check "index.html has the skip table" grep -q 'Skips' "$tmp/b/index.html"
+# Subdivision rows: uniform cuts leaves, none does not; both measure the
+# large-quad pixels (PSNR column 15, pixel share column 19).
+check "subdivision uniform cuts leaves" awk -F, '$3 == "subdivision uniform" && $23 > 0 { ok = 1 } END { exit !ok }' "$tmp/b/skips.csv"
+check "subdivision none cuts none" awk -F, '$3 == "subdivision none" && $23 == 0 { ok = 1 } END { exit !ok }' "$tmp/b/skips.csv"
+check "large-quad PSNR measured" awk -F, '$3 ~ /^subdivision/ && ($15 == "-" || $19 <= 0) { bad = 1 } END { exit bad }' "$tmp/b/skips.csv"
 "$hw" bench --only skips,nonsense --out "$tmp/bad3" >/dev/null 2>"$tmp/err"
 check "bench --only unknown part refused" test $? -eq 2
 

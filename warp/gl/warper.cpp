@@ -84,7 +84,9 @@ uniform float uAlpha;    // 1; 254/255 marks the background layer in a fused pai
 layout(location = 0) out vec4 oColour;
 layout(location = 1) out float oEyeZ;  // R32F: relative 6e-8, vs the depth merge's 2 % tolerance
 void main() {
-  oColour = vec4(textureProj(uKey, vTex).rgb, uAlpha);
+  // vTex.z < 0: a large leaf's negated texcoords (WarpOptions::markLargeQuads),
+  // marked 2/255 lower: 253 foreground, 252 background.
+  oColour = vec4(textureProj(uKey, vTex).rgb, vTex.z < 0.0 ? uAlpha - 2.0 / 255.0 : uAlpha);
   oEyeZ = uSkyEyeZ > 0.0 ? uSkyEyeZ : vEyeZ;
 }
 )";
@@ -100,8 +102,11 @@ constexpr const char* kQueryFragment = R"(#version 450 core
 void main() {}
 )";
 
-// Alpha of background pixels in a fused pair: exactly 254 in RGBA8.
+// Alpha of background pixels in a fused pair: exactly 254 in RGBA8. Pixels
+// of large leaves (markLargeQuads) are 2 lower: 253 foreground, 252 background.
 constexpr float kBackgroundAlpha = 254.0f / 255.0f;
+constexpr std::uint8_t kAlphaForeground = 255, kAlphaBackground = 254, kAlphaLargeForeground = 253,
+                       kAlphaLargeBackground = 252;
 
 // Float is enough here (issue #7, "precision where it matters"); corners,
 // matrices and unprojection are computed in double and rounded once:
@@ -279,13 +284,17 @@ class GlWarper final : public Warper {
       }
       for (int k : kTri) indices_.push_back(id[k]);
     };
+    // −1 while emitting a large leaf (markLargeQuads): its texcoords are
+    // negated, which textureProj divides away (the sign is exact in float).
+    double texSign = 1.0;
     auto emit = [&](const glm::dvec3* world, const glm::dvec2* pixel, const double* eyeZ) {
       WarpVertex v[4];
       for (int k = 0; k < 4; ++k) {
         for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(world[k][c]);
         v[k].pos[3] = 1.0f;
         const double s = pixel[k].x * invW, t = pixel[k].y * invH;
-        const double w = options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0;
+        const double w =
+            texSign * (options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0);
         v[k].tex[0] = static_cast<float>(s * w);
         v[k].tex[1] = static_cast<float>(t * w);
         v[k].tex[2] = static_cast<float>(w);
@@ -314,6 +323,7 @@ class GlWarper final : public Warper {
         pointScratch_.push_back(pv);
         continue;
       }
+      texSign = options_.markLargeQuads && cellGrid(q) > 1 ? -1.0 : 1.0;
       const int cells = cellsFor(q, kf);
       if (cells <= 1) {
         emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
@@ -436,13 +446,25 @@ class GlWarper final : public Warper {
     const double drawMs = sw.lap();
     readLayer(fbo_, target, out);
     const std::size_t n = out.colour.size();
-    const Rgba8* c = out.colour.data();
+    Rgba8* c = out.colour.data();
     std::uint8_t* cov = out.coverage.data();
     int uncovered = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const int on = c[i].a != 0;
-      cov[i] = static_cast<std::uint8_t>(on);
-      uncovered += 1 - on;
+    if (options_.markLargeQuads) {
+      std::uint8_t* large = out.largeQuad.data();
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint8_t a = c[i].a;
+        const int on = a != 0;
+        cov[i] = static_cast<std::uint8_t>(on);
+        large[i] = a == kAlphaLargeForeground;
+        c[i].a = on ? kAlphaForeground : 0;
+        uncovered += 1 - on;
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        const int on = c[i].a != 0;
+        cov[i] = static_cast<std::uint8_t>(on);
+        uncovered += 1 - on;
+      }
     }
     if (stats) {
       stats->drawMs = drawMs;
@@ -507,12 +529,14 @@ class GlWarper final : public Warper {
     const std::size_t n = out.colour.size();
     Rgba8* c = out.colour.data();
     std::uint8_t* cov = out.coverage.data();
+    std::uint8_t* large = options_.markLargeQuads ? out.largeQuad.data() : nullptr;
     int fromBg = 0, uncovered = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint8_t a = c[i].a;
-      const int isBg = a == 254, isNone = a == 0;
+      const int isBg = a == kAlphaBackground || a == kAlphaLargeBackground, isNone = a == 0;
       cov[i] = static_cast<std::uint8_t>(isNone ? 0 : 1 + isBg);
-      c[i].a = isNone ? 0 : 255;
+      if (large) large[i] = a == kAlphaLargeForeground || a == kAlphaLargeBackground;
+      c[i].a = isNone ? 0 : kAlphaForeground;
       fromBg += isBg;
       uncovered += isNone;
     }
@@ -535,22 +559,30 @@ class GlWarper final : public Warper {
   const WarpOptions& options() const override { return options_; }
 
  private:
+  // Cells of subdivideCellPx a leaf spans (nx·ny); > 1 = a subdivision
+  // candidate, the leaves Uniform cuts.
+  int cellGrid(const keyframe::Quad& q) const {
+    const int cell = std::max(1, options_.subdivideCellPx);
+    const int nx = (q.rect.width() + cell - 1) / cell, ny = (q.rect.height() + cell - 1) / cell;
+    return nx * ny;
+  }
+
   // 1 = draw the leaf as it is; otherwise it is cut into cells.
   int cellsFor(const keyframe::Quad& q, const keyframe::Keyframe& kf) const {
     const int cell = std::max(1, options_.subdivideCellPx);
-    const int nx = (q.rect.width() + cell - 1) / cell, ny = (q.rect.height() + cell - 1) / cell;
-    if (options_.subdivision == Subdivision::None || nx * ny <= 1) return 1;
-    if (options_.subdivision == Subdivision::Uniform) return nx * ny;
+    const int grid = cellGrid(q);
+    if (options_.subdivision == Subdivision::None || grid <= 1) return 1;
+    if (options_.subdivision == Subdivision::Uniform) return grid;
     const double zMin = std::min({q.eyeZ[0], q.eyeZ[1], q.eyeZ[2], q.eyeZ[3]});
     const double zMax = std::max({q.eyeZ[0], q.eyeZ[1], q.eyeZ[2], q.eyeZ[3]});
-    if (zMax >= options_.subdivideDepthRatio * zMin) return nx * ny;
+    if (zMax >= options_.subdivideDepthRatio * zMin) return grid;
     // Depth off the plane, sampled on the cell grid's pixel centres.
     for (int y = q.rect.y0; y < q.rect.y1; y += std::max(1, cell / 2))
       for (int x = q.rect.x0; x < q.rect.x1; x += std::max(1, cell / 2)) {
         if (!kf.covered(x, y)) continue;
         const double zPlane = keyframe::quadEyeZAt(q, x + 0.5, y + 0.5);
         const double z = kf.eyeZ(x, y);
-        if (std::abs(z - zPlane) > options_.subdivideResidual * z) return nx * ny;
+        if (std::abs(z - zPlane) > options_.subdivideResidual * z) return grid;
       }
     return 1;
   }
@@ -613,6 +645,9 @@ class GlWarper final : public Warper {
     else out.eyeZ.resize(0, 0);
     if (out.coverage.width() != target.width || out.coverage.height() != target.height)
       out.coverage.resize(target.width, target.height);
+    if (!options_.markLargeQuads) out.largeQuad.resize(0, 0);
+    else if (out.largeQuad.width() != target.width || out.largeQuad.height() != target.height)
+      out.largeQuad.resize(target.width, target.height);
   }
 
   std::vector<int> gridX_, gridY_;
