@@ -86,6 +86,46 @@ bool parsePlanarity(const char* s, Planarity* out) {
   return false;
 }
 
+void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::uint8_t> valid,
+                          Image<float>* out) {
+  HW_CHECK(out != nullptr);
+  HW_CHECK_EQ(zPrime.width, valid.width);
+  HW_CHECK_EQ(zPrime.height, valid.height);
+  const int w = zPrime.width, h = zPrime.height;
+  if (out->width() != w || out->height() != h) out->resize(w, h);
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  constexpr double kCap = std::numeric_limits<float>::max();
+  // The smaller one-sided difference; a missing side (kNone) drops out, both
+  // missing (or both overflowing) give 0.
+  auto robust = [](double a, double b) {
+    const double m = a < b ? a : b;
+    return m < kNone ? m : 0.0;
+  };
+  for (int y = 0; y < h; ++y) {
+    const double* __restrict zr = zPrime.row(y);
+    const double* __restrict zu = y > 0 ? zPrime.row(y - 1) : nullptr;
+    const double* __restrict zd = y + 1 < h ? zPrime.row(y + 1) : nullptr;
+    const std::uint8_t* __restrict vr = valid.row(y);
+    const std::uint8_t* __restrict vu = y > 0 ? valid.row(y - 1) : nullptr;
+    const std::uint8_t* __restrict vd = y + 1 < h ? valid.row(y + 1) : nullptr;
+    float* __restrict g = out->view().row(y);
+    for (int x = 0; x < w; ++x) {
+      if (vr[x] == 0) {
+        g[x] = 0.0f;
+        continue;
+      }
+      const double l = x > 0 && vr[x - 1] != 0 ? std::fabs(zr[x] - zr[x - 1]) : kNone;
+      const double r = x + 1 < w && vr[x + 1] != 0 ? std::fabs(zr[x + 1] - zr[x]) : kNone;
+      const double u = vu != nullptr && vu[x] != 0 ? std::fabs(zr[x] - zu[x]) : kNone;
+      const double d = vd != nullptr && vd[x] != 0 ? std::fabs(zd[x] - zr[x]) : kNone;
+      const double gx = robust(l, r), gy = robust(u, d);
+      g[x] = static_cast<float>(std::min(gx > gy ? gx : gy, kCap));
+    }
+  }
+}
+
+double suggestedTauGradient() { return 0.05; }
+
 double tauFromParallax(double parallaxPx, const Camera& camera) {
   const double n = camera.nearPlane, f = camera.farPlane;
   return parallaxPx * kZPrimeScale * f * n / (camera.fx() * (f - n));
@@ -121,6 +161,10 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   if (!(options.mergeToleranceZPrime >= 0.0 && std::isfinite(options.mergeToleranceZPrime))) {
     return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
                      std::to_string(options.mergeToleranceZPrime));
+  }
+  if (!(options.tauGradient >= 0.0 && std::isfinite(options.tauGradient))) {
+    return makeError("LOD builder: tauGradient must be finite and >= 0, got " +
+                     std::to_string(options.tauGradient));
   }
   if (options.planarity != Planarity::Stencil && options.planarity != Planarity::RegionLocal) {
     return makeError("LOD builder: unknown planarity " +
@@ -158,6 +202,7 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   emptyPixels_ = static_cast<long long>(w) * h - validCount;
 
   computeDeltaBuffer(zPrime, valid_.view(), options.criterion, &delta_);
+  if (options.tauGradient > 0.0) computeDepthGradient(zPrime, valid_.view(), &grad_);
   deltaMs_ = sw.ms();
   prepared_ = true;
   return {};
@@ -219,7 +264,18 @@ double LodBuilder::subdivide() {
           sat_.data() + static_cast<std::ptrdiff_t>(y) * satStride_;
       std::int32_t* __restrict cur = sat_.data() + static_cast<std::ptrdiff_t>(y + 1) * satStride_;
       cur[0] = 0;
-      for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
+      if (options_.tauGradient > 0.0) {
+        // Per-pixel τ + A·g, capped like τ so that +inf stays dirty.
+        const float* __restrict g = grad_.view().row(y);
+        const double t0 = tauZPrime_, a = options_.tauGradient;
+        const double cap = std::numeric_limits<float>::max();
+        for (int x = 0; x < w; ++x) {
+          const double t = std::min(t0 + a * static_cast<double>(g[x]), cap);
+          cur[x + 1] = static_cast<std::int32_t>(static_cast<double>(d[x]) > t);
+        }
+      } else {
+        for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
+      }
       for (int x = 0; x < w; ++x) cur[x + 1] += cur[x];  // row prefix (serial)
       for (int x = 1; x <= w; ++x) cur[x] += prev[x];
     }
@@ -301,7 +357,7 @@ inline bool bothDirty(std::int8_t a, std::int8_t b) { return stencilDirty(a) && 
 
 void LodBuilder::buildLocalTables() {
   const int w = valid_.width(), h = valid_.height();
-  const double tau = tauZPrime_;
+  const bool gradTol = options_.tauGradient > 0.0;
   const bool fivePoint = options_.criterion == DeltaCriterion::FivePoint;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   stateX_.resize(n);
@@ -323,6 +379,10 @@ void LodBuilder::buildLocalTables() {
       sx[x] = sy[x] = kStencilMissing;
       in[x] = 0;
       if (vr[x] == 0) continue;
+      // τ, or τ + A·g(p) (capped so that an overflowing stencil stays dirty).
+      const double tau = gradTol ? std::min(tauAt(static_cast<std::ptrdiff_t>(y) * w + x),
+                                            std::numeric_limits<double>::max())
+                                 : tauZPrime_;
       const bool hasX = x > 0 && x + 1 < w && vr[x - 1] != 0 && vr[x + 1] != 0;
       const bool hasY = zu != nullptr && zd != nullptr && vu[x] != 0 && vd[x] != 0;
       const double dx = hasX ? 2.0 * zr[x] - zr[x - 1] - zr[x + 1] : 0.0;
@@ -493,8 +553,11 @@ void LodBuilder::mergeLeaves() {
   // differences along that direction exceed τ (missing stencils: no
   // evidence).
   const int w = valid_.width(), h = valid_.height();
-  const double tau = tauZPrime_;
+  const bool gradTol = options_.tauGradient > 0.0;
   auto dirtyAt = [&](int x, int y, bool alongY) {
+    const double tau = gradTol ? std::min(tauAt(static_cast<std::ptrdiff_t>(y) * w + x),
+                                          std::numeric_limits<double>::max())
+                               : tauZPrime_;
     const int dx = alongY ? 0 : 1, dy = alongY ? 1 : 0;
     const int xa = x - dx, ya = y - dy, xb = x + dx, yb = y + dy;
     if (xa < 0 || ya < 0 || xb >= w || yb >= h) return false;
