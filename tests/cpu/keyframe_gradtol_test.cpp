@@ -39,7 +39,9 @@ Keyframe blankKeyframe(int w, int h) {
 // plane is shifted by its own sub-pixel vertex-snapping offset (up to
 // `snapPx` in x and y), then z' is rounded to integers. The second
 // differences are therefore ~snapPx·|∇z'| across triangle edges (the noise
-// NOTES-GL.md measures), zero inside a triangle up to rounding.
+// NOTES-GL.md measures), zero inside a triangle up to rounding. 1/2048 px
+// at |∇z'| ≈ 7000 gives |Δ²| up to ~25, about the ratio of rendered floors
+// (keyframe_lod_gl_test: |Δ²| 9 at |∇z'| 4300, 24-bit depth).
 double noisyPlane(int x, int y, double a, double b, double c, double snapPx, unsigned seed) {
   const int cx = x / 16, cy = y / 16;
   const int tri = (x % 16) > (y % 16) ? 1 : 0;
@@ -115,7 +117,7 @@ TEST(LodGradTol, SteepNoisyPlaneStaysWhole) {
   Keyframe kf = blankKeyframe(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      kf.zPrime(x, y) = noisyPlane(x, y, 6e6, 900.0, 1700.0, 1 / 256.0, 7);
+      kf.zPrime(x, y) = noisyPlane(x, y, 6e6, 4000.0, 6000.0, 1 / 2048.0, 7);
   float maxDelta = 0;
   {
     LodBuilder b;
@@ -152,10 +154,10 @@ TEST(LodGradTol, StepBesideASteepPlaneIsStillCut) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const bool near = vertical ? x >= step : y >= step;
-        // Both sides steep; the near side is a different plane 20 000 z'
-        // units in front (≈ 12 pixels' worth of the gradient).
-        kf.zPrime(x, y) = near ? noisyPlane(x, y, 5.98e6, 1100.0, 1500.0, 1 / 256.0, 3)
-                               : noisyPlane(x, y, 6e6, 900.0, 1700.0, 1 / 256.0, 5);
+        // Both sides steep; the near side is a different plane ≥ 30 000 z'
+        // units in front along the step (≈ 5 pixels' worth of the gradient).
+        kf.zPrime(x, y) = near ? noisyPlane(x, y, 5.95e6, 4200.0, 5800.0, 1 / 2048.0, 3)
+                               : noisyPlane(x, y, 6e6, 4000.0, 6000.0, 1 / 2048.0, 5);
       }
     for (Planarity p : {Planarity::Stencil, Planarity::RegionLocal})
       for (bool merge : {false, true})
