@@ -98,8 +98,8 @@ struct LodOptions {
 // the two one-sided absolute differences (|z(x+1) − z(x)|, |z(x) − z(x−1)|),
 // so that a depth step does not raise its own tolerance; one-sided where a
 // neighbour is invalid (valid == 0) or off the image, 0 when both are; then
-// g = max over the two axes. Invalid pixels get 0; an overflowing difference
-// counts as missing; values are capped at FLT_MAX.
+// g = max over the two axes. Invalid pixels get 0; values (an overflowing
+// difference too) are capped at FLT_MAX.
 void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::uint8_t> valid,
                           Image<float>* out);
 

@@ -197,6 +197,17 @@ TEST_F(KeyframeDbDir, OpenReadAndMatch) {
   other = prov_;
   other.mesh["tau"] = 4096.0;
   EXPECT_FALSE(db->checkMatches(other).ok());
+  // The gradient tolerance is recorded only when used (a database baked
+  // before it existed still matches a fixed-τ run), and refused both ways.
+  EXPECT_FALSE(prov_.mesh.contains("tau_gradient"));
+  LodOptions grad;
+  grad.tauGradient = 0.005;
+  other = prov_;
+  other.mesh = meshOptionsJson(grad);
+  EXPECT_EQ(other.mesh["tau_gradient"], 0.005);
+  const Status g = db->checkMatches(other);
+  ASSERT_FALSE(g.ok());
+  EXPECT_NE(g.error().message.find("mesh.tau_gradient"), std::string::npos) << g.error().message;
   CachedKeyframe out;
   ASSERT_TRUE(db->read(10, out).ok());
   EXPECT_EQ(out.frame, 10);
