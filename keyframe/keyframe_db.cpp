@@ -481,6 +481,8 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want,
       for (const auto& [sub, v] : value.items())
         if (!h->contains(sub) || (*h)[sub] != v)
           return mismatch(key + "." + sub, h->contains(sub) ? &(*h)[sub] : nullptr, v);
+      for (const auto& [sub, hv] : h->items())  // baked with an option this run lacks
+        if (!value.contains(sub)) return mismatch(key + "." + sub, &hv, nullptr);
     }
     if (!h || *h != value) return mismatch(key, h, value);
   }

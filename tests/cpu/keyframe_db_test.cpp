@@ -212,6 +212,21 @@ TEST_F(KeyframeDbDir, OpenReadAndMatch) {
   ASSERT_TRUE(db->read(10, out).ok());
   EXPECT_EQ(out.frame, 10);
   EXPECT_FALSE(db->read(5, out).ok());
+  // A database baked with the gradient tolerance, read by a run without it,
+  // names it too.
+  nlohmann::json ix = nlohmann::json::parse(*readFile(dir_ + "/index.json"));
+  ix["baked_from"]["mesh"] = meshOptionsJson(grad);
+  ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", ix.dump(1)).ok());
+  auto dbGrad = KeyframeDb::open(dir_);
+  ASSERT_TRUE(dbGrad.ok()) << dbGrad.error().message;
+  KeyframeDbProvenance bakedGrad = prov_;
+  bakedGrad.mesh = meshOptionsJson(grad);
+  EXPECT_TRUE(dbGrad->checkMatches(bakedGrad).ok());
+  const Status g2 = dbGrad->checkMatches(prov_);
+  ASSERT_FALSE(g2.ok());
+  EXPECT_NE(g2.error().message.find("mesh.tau_gradient 0.005, this run has null"),
+            std::string::npos)
+      << g2.error().message;
 }
 
 TEST_F(KeyframeDbDir, CorruptTruncatedAndReplacedFilesAreNamed) {
