@@ -89,6 +89,27 @@ bool parseList(const std::string& s, std::vector<double>* out) {
   return true;
 }
 
+// --tau-gradient (LodOptions::tauGradient): the option and its parse.
+std::string suggestedTauGradient() {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", keyframe::suggestedTauGradient());
+  return buf;
+}
+std::string tauGradientHelp() {
+  return "Gradient-following LOD tolerance A: a pixel is non-planar when |Δ²z'| > tau + A·g, "
+         "g its depth gradient in z' units per pixel (per axis the smaller one-sided "
+         "difference, so a depth step does not raise its own tolerance). Dimensionless: extra "
+         "z' tolerance per z' unit/pixel of gradient; absorbs rasteriser noise on steep planes "
+         "at small tau. 0 = off (the fixed tau); suggested " +
+         suggestedTauGradient();
+}
+bool parseTauGradient(const std::string& s, double* out, std::string* err) {
+  if (parseTau(s, out)) return true;
+  *err = "--tau-gradient: expected a finite non-negative number like " +
+         suggestedTauGradient() + ", got '" + s + "'";
+  return false;
+}
+
 // Keyframe schedule options of walk and schedule-study (issue #8).
 void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto) {
@@ -406,6 +427,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   walk->add_flag("--merge-strips", mergeStrips,
                  "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger quads");
+  std::string tauGradS = "0";
+  walk->add_option("--tau-gradient", tauGradS, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", compose,
                    "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
                    "(per-pixel nearer of the two layers)")
@@ -603,6 +626,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
   lod->add_flag("--merge-strips", lodMerge, "Merge adjacent coplanar leaves");
+  std::string lodTauGradS = "0";
+  lod->add_option("--tau-gradient", lodTauGradS, tauGradientHelp())->capture_default_str();
   lod->add_option("--out", lodOut, "Overlay PNG path")->capture_default_str();
 
   // sweep
@@ -623,6 +648,11 @@ int main(int argc, char** argv) {
   bool sweepNoVariants = false;
   sweep->add_flag("--no-variants", sweepNoVariants,
                   "Skip the edge-strip variants (region-local planarity, strip merging)");
+  std::string sweepTauGradS = "0";
+  sweep->add_option("--tau-gradient", sweepTauGradS,
+                    "Adds the gradient-tolerance variant (five-point, region-local+merge, "
+                    "--tau-gradient A) per tau; 0 = not run. " + tauGradientHelp())
+      ->capture_default_str();
   sweep->add_option("--overlay-frame", sweepOverlayFrame,
                     "Frame whose quad mesh is drawn per tau (default -1: the middle keyframe)")
       ->check(CLI::Range(-1, 1 << 30));
@@ -659,6 +689,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
   bakeCmd->add_flag("--merge-strips", bakeMerge, "Merge adjacent coplanar leaves, as for walk");
+  std::string bakeTauGradS = "0";
+  bakeCmd->add_option("--tau-gradient", bakeTauGradS, tauGradientHelp() + "; as for walk")
+      ->capture_default_str();
   bakeCmd->add_option("--keyframes-per-task", bakePerTask,
                       "Keyframes per chunk (--slurm array task or --workers process)")
       ->check(CLI::Range(1, 1 << 20))
@@ -722,6 +755,8 @@ int main(int argc, char** argv) {
   viewCmd->add_option("--path", viewC.path, "Camera path JSON to play (default: the scene's own)");
   viewCmd->add_option("--tau", viewTau, "LOD threshold in z' units ('2^11' or '2048')")
       ->capture_default_str();
+  std::string viewTauGradS = "0";
+  viewCmd->add_option("--tau-gradient", viewTauGradS, tauGradientHelp())->capture_default_str();
   viewCmd->add_option("--width", vo.width, "Window width, pixels")->check(CLI::Range(16, 8192))
       ->capture_default_str();
   viewCmd->add_option("--height", vo.height, "Window height, pixels")->check(CLI::Range(16, 8192))
@@ -931,6 +966,7 @@ int main(int argc, char** argv) {
   if (viewCmd->parsed()) {
     if (!parseTau(viewTau, &vo.tau))
       return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + viewTau + "'");
+    if (std::string err; !parseTauGradient(viewTauGradS, &vo.tauGradient, &err)) return fail(err);
     if (!viewC.path.empty()) {
       vo.playPath = viewC.path;
     }
@@ -1023,6 +1059,7 @@ int main(int argc, char** argv) {
     keyframe::parseDeltaCriterion(bakeCriterion.c_str(), &lo.criterion);
     keyframe::parsePlanarity(bakePlanarity.c_str(), &lo.planarity);
     lo.mergeStrips = bakeMerge;
+    if (std::string err; !parseTauGradient(bakeTauGradS, &lo.tauGradient, &err)) return fail(err);
     return runBake(bakeC, lo, bakeOut, bakePerTask, bakeQuiet, bakeDist, argc, argv);
   }
 
@@ -1085,6 +1122,7 @@ int main(int argc, char** argv) {
     so.bothCriteria = !sweepOneCriterion;
     so.baselines = !sweepNoBaselines;
     so.variants = !sweepNoVariants;
+    if (std::string err; !parseTauGradient(sweepTauGradS, &so.tauGradient, &err)) return fail(err);
     so.maxFrames = sweepC.frames;
     so.depthMode = depthModeOf(sweepC.depth);
     so.overlayFrame = sweepOverlayFrame;
@@ -1242,6 +1280,7 @@ int main(int argc, char** argv) {
     keyframe::parseDeltaCriterion(lodCriterion.c_str(), &lo.criterion);
     keyframe::parsePlanarity(lodPlanarity.c_str(), &lo.planarity);
     lo.mergeStrips = lodMerge;
+    if (std::string err; !parseTauGradient(lodTauGradS, &lo.tauGradient, &err)) return fail(err);
     auto in = loadInputs(lodC);
     if (!in) return fail(in.error().message);
     if (lodFrame >= in->path.frames)
@@ -1268,6 +1307,7 @@ int main(int argc, char** argv) {
               {"criterion", lodCriterion},
               {"planarity", lodPlanarity},
               {"merge_strips", lodMerge},
+              {"tau_gradient", lo.tauGradient},
               {"depth_mode", lodC.depth},
               {"quads", st.quads},
               {"one_pixel_leaves", st.onePixelLeaves},
@@ -1291,6 +1331,7 @@ int main(int argc, char** argv) {
   keyframe::parseDeltaCriterion(criterion.c_str(), &wo.lod.criterion);
   keyframe::parsePlanarity(planarity.c_str(), &wo.lod.planarity);
   wo.lod.mergeStrips = mergeStrips;
+  if (std::string err; !parseTauGradient(tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
   gapfill::parseComposeMode(compose.c_str(), &wo.compose.mode);
   wo.warp.texcoords = texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
   wo.warp.skyBackdrop = !noSky;

@@ -33,6 +33,7 @@ struct ViewerOptions {
   std::string sceneLabel;         // window title and HUD
   int width = 800, height = 600;  // window size, pixels (≥ 16)
   double tau = 2048;              // LOD threshold τ, z' units (the paper's 2^11)
+  double tauGradient = 0;         // keyframe::LodOptions::tauGradient (0 = fixed τ)
   std::string playPath;           // camera path JSON file; empty: the default path
   bool play = false;              // start by playing the path (loops; any move stops it)
   int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed

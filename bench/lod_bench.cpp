@@ -148,6 +148,45 @@ void BM_Build(benchmark::State& state) {
   setLabel(state, o);
 }
 
+// The robust depth gradient of LodOptions::tauGradient (issue 9), alone.
+void BM_DepthGradient(benchmark::State& state) {
+  const Keyframe& kf = keyframeFor(static_cast<int>(state.range(1)), static_cast<int>(state.range(0)));
+  Image<float> g(kf.zPrime.width(), kf.zPrime.height());
+  for (auto _ : state) {
+    computeDepthGradient(kf.zPrime.view(), kf.covered.view(), &g);
+    benchmark::DoNotOptimize(g.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetLabel(kSceneNames[state.range(1)]);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(g.size()));
+}
+
+// Whole build at τ = 2^3 with tauGradient 0 or the suggested value, both
+// planarities: what the variant adds (Δ pass: the gradient; subdivision:
+// the per-pixel threshold).
+void BM_BuildGradTol(benchmark::State& state) {
+  const Keyframe& kf = keyframeFor(static_cast<int>(state.range(3)), static_cast<int>(state.range(0)));
+  LodOptions o;
+  o.tau = 8;
+  o.tauGradient = state.range(1) != 0 ? suggestedTauGradient() : 0.0;
+  o.planarity = state.range(2) != 0 ? Planarity::RegionLocal : Planarity::Stencil;
+  LodBuilder b;
+  QuadMesh mesh;
+  double deltaMs = 0, subdivideMs = 0;
+  for (auto _ : state) {
+    const Status st = b.build(kf, o, &mesh);
+    benchmark::DoNotOptimize(st.ok());
+    deltaMs += mesh.stats.deltaMs;
+    subdivideMs += mesh.stats.subdivideMs;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["quads"] = mesh.stats.quads;
+  state.counters["delta_ms"] = deltaMs / n;
+  state.counters["subdivide_ms"] = subdivideMs / n;
+  state.SetLabel(std::string(kSceneNames[state.range(3)]) + " " + planarityName(o.planarity) +
+                 (o.tauGradient > 0 ? " tauGradient" : " fixed"));
+}
+
 void lodArgs(benchmark::internal::Benchmark* b) {
   b->ArgNames({"size", "tau_log2", "per_axis", "scene"});
   for (int scene : {1, 2, 0})
@@ -161,6 +200,14 @@ void lodArgs(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_DeltaBuffer)
     ->ArgNames({"size", "per_axis", "scene"})
     ->ArgsProduct({{512, 1024}, {0, 1}, {1, 2, 0}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DepthGradient)
+    ->ArgNames({"size", "scene"})
+    ->ArgsProduct({{512, 1024}, {1, 2, 0}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildGradTol)
+    ->ArgNames({"size", "grad", "local", "scene"})
+    ->ArgsProduct({{512}, {0, 1}, {0, 1}, {1, 2}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Prepare)->Apply(lodArgs);
 BENCHMARK(BM_Subdivide)->Apply(lodArgs);

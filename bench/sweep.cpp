@@ -37,15 +37,23 @@ struct Run {
   int tileSize = 0;
   keyframe::Planarity planarity = keyframe::Planarity::Stencil;
   bool mergeStrips = false;
+  double tauGradient = 0;  // LodOptions::tauGradient
   std::string variant() const {
     std::string v = keyframe::planarityName(planarity);
     if (mergeStrips) v += "+merge";
+    if (tauGradient > 0) {
+      char a[32];
+      std::snprintf(a, sizeof a, "%g", tauGradient);
+      v += std::string("+grad=") + a;
+    }
     return v;
   }
   std::string method() const {
     if (mesh == keyframe::MeshMethod::Lod)
       return std::string("lod ") + keyframe::deltaCriterionName(criterion) +
-             (planarity == keyframe::Planarity::Stencil && !mergeStrips ? "" : " " + variant());
+             (planarity == keyframe::Planarity::Stencil && !mergeStrips && tauGradient == 0
+                  ? ""
+                  : " " + variant());
     return keyframe::meshMethodName(mesh);
   }
 };
@@ -68,6 +76,8 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
     for (int e = 6; e <= 16; ++e) p.taus.push_back(std::ldexp(1.0, e));
   for (double t : p.taus)
     if (!std::isfinite(t) || t < 0) return makeError("sweep: tau must be finite and >= 0, got " + fmt(t));
+  if (!std::isfinite(opt.tauGradient) || opt.tauGradient < 0)
+    return makeError("sweep: tau gradient must be finite and >= 0, got " + fmt(opt.tauGradient));
   p.frames = opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames;
   p.overlayFrame = opt.overlayFrame;
   if (p.overlayFrame < 0) {
@@ -89,6 +99,9 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
                          Planarity::RegionLocal, true});
     }
+    if (opt.tauGradient > 0)  // issue #9's gradient-following tolerance
+      p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
+                         Planarity::RegionLocal, true, opt.tauGradient});
   }
   if (opt.baselines) {
     // tileSize 0 = "matched to tau", resolved when the cell runs.
@@ -101,7 +114,7 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
 
 bool isFivePointStencil(const Run& r) {
   return r.mesh == keyframe::MeshMethod::Lod && r.criterion == keyframe::DeltaCriterion::FivePoint &&
-         r.planarity == keyframe::Planarity::Stencil && !r.mergeStrips;
+         r.planarity == keyframe::Planarity::Stencil && !r.mergeStrips && r.tauGradient == 0;
 }
 
 }  // namespace
@@ -140,6 +153,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
     w.lod.criterion = r.criterion;
     w.lod.planarity = r.planarity;
     w.lod.mergeStrips = r.mergeStrips;
+    w.lod.tauGradient = r.tauGradient;
     w.mesh = r.mesh;
     w.tileSize = r.tileSize;
     w.depthMode = opt.depthMode;

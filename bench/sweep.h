@@ -21,6 +21,10 @@ struct SweepOptions {
   bool bothCriteria = true;   // five-point and per-axis max (else five-point only)
   bool baselines = true;      // uniform tiles (matched to each five-point τ) and per-pixel
   bool variants = true;       // region-local planarity and strip merging (issue #9), five-point
+  // > 0 adds, per τ, the gradient-tolerance variant (issue #9): five-point,
+  // region-local + merge, LodOptions::tauGradient = this; variant name
+  // "region-local+merge+grad=A". 0 = not run (the sweep as before).
+  double tauGradient = 0;
   int maxFrames = 0;          // frames of the path per run; 0 = all
   DepthMode depthMode = kDefaultDepthMode;
   int overlayFrame = -1;      // keyframe for the overlays; −1 = the middle keyframe
@@ -35,7 +39,8 @@ Result<nlohmann::json> runSweep(const scenes::Scene& scene, const std::string& s
                                 const scenes::CameraPath& path, const SweepOptions& options);
 
 // The sweep as independent cells (for chunked runs, bench/slurm.h): cell
-// order = per τ the LOD runs (five-point, per-axis max, three variants),
+// order = per τ the LOD runs (five-point, per-axis max, three variants, the
+// gradient variant if tauGradient > 0),
 // then one uniform-tiles cell per τ, then per-pixel. A uniform-tiles cell
 // finds its tile size itself — the five-point median quads per keyframe at its
 // τ (taken from a five-point row run in the same call, else from meshing the

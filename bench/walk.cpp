@@ -684,6 +684,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   summary["mesh"] = keyframe::meshMethodName(opt.mesh);
   summary["planarity"] = keyframe::planarityName(opt.lod.planarity);
   summary["merge_strips"] = opt.lod.mergeStrips;
+  summary["tau_gradient"] = opt.lod.tauGradient;
   summary["tile_size"] = opt.mesh == keyframe::MeshMethod::UniformTiles ? json(opt.tileSize) : json(nullptr);
   summary["depth_mode"] = depthModeName(opt.depthMode);
   summary["compose_mode"] = gapfill::composeModeName(opt.compose.mode);

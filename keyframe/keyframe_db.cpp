@@ -350,13 +350,17 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
 }
 
 json meshOptionsJson(const LodOptions& lod) {
-  return {{"method", "lod"},
-          {"tau", lod.tau},
-          {"tau_px", lod.tauParallaxPx},
-          {"criterion", deltaCriterionName(lod.criterion)},
-          {"planarity", planarityName(lod.planarity)},
-          {"merge_strips", lod.mergeStrips},
-          {"merge_tolerance", lod.mergeToleranceZPrime}};
+  json j = {{"method", "lod"},
+            {"tau", lod.tau},
+            {"tau_px", lod.tauParallaxPx},
+            {"criterion", deltaCriterionName(lod.criterion)},
+            {"planarity", planarityName(lod.planarity)},
+            {"merge_strips", lod.mergeStrips},
+            {"merge_tolerance", lod.mergeToleranceZPrime}};
+  // Only when used, so that databases baked without it (before it existed)
+  // still match a fixed-τ run, and one baked with it never does.
+  if (lod.tauGradient > 0) j["tau_gradient"] = lod.tauGradient;
+  return j;
 }
 
 json provenanceJson(const KeyframeDbProvenance& p) {
@@ -477,6 +481,8 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want,
       for (const auto& [sub, v] : value.items())
         if (!h->contains(sub) || (*h)[sub] != v)
           return mismatch(key + "." + sub, h->contains(sub) ? &(*h)[sub] : nullptr, v);
+      for (const auto& [sub, hv] : h->items())  // baked with an option this run lacks
+        if (!value.contains(sub)) return mismatch(key + "." + sub, &hv, nullptr);
     }
     if (!h || *h != value) return mismatch(key, h, value);
   }

@@ -52,6 +52,7 @@ struct KeyframeDbProvenance {
   std::string depthMode;  // depthModeName
   nlohmann::json
       mesh;  // {"method","tau","tau_px","criterion","planarity","merge_strips","merge_tolerance"}
+             // plus "tau_gradient" when > 0 (meshOptionsJson)
 };
 nlohmann::json meshOptionsJson(const LodOptions& lod);
 nlohmann::json provenanceJson(const KeyframeDbProvenance& p);

@@ -86,6 +86,98 @@ bool parsePlanarity(const char* s, Planarity* out) {
   return false;
 }
 
+namespace {
+
+constexpr double kGradNone = std::numeric_limits<double>::infinity();
+
+// One pixel of computeDepthGradient (borders; any neighbour may be missing):
+// per axis the smaller one-sided difference, 0 without a valid neighbour.
+inline float gradientAt(const double* zr, const double* zu, const double* zd,
+                        const std::uint8_t* vr, const std::uint8_t* vu, const std::uint8_t* vd,
+                        int x, int w) {
+  if (vr[x] == 0) return 0.0f;
+  const bool hl = x > 0 && vr[x - 1] != 0, hr = x + 1 < w && vr[x + 1] != 0;
+  const bool hu = vu != nullptr && vu[x] != 0, hd = vd != nullptr && vd[x] != 0;
+  const double l = hl ? std::fabs(zr[x] - zr[x - 1]) : kGradNone;
+  const double r = hr ? std::fabs(zr[x + 1] - zr[x]) : kGradNone;
+  const double u = hu ? std::fabs(zr[x] - zu[x]) : kGradNone;
+  const double d = hd ? std::fabs(zd[x] - zr[x]) : kGradNone;
+  const double gx = hl || hr ? std::min(l, r) : 0.0, gy = hu || hd ? std::min(u, d) : 0.0;
+  return static_cast<float>(std::min(std::max(gx, gy), double(std::numeric_limits<float>::max())));
+}
+
+// Interior columns of an interior row: the same result as gradientAt,
+// branch-free so that -O3 vectorises it. The validity selects are bit masks
+// (GCC does not if-convert floating-point compares that may trap), the
+// mins/maxes the plain `a < b ? a : b` pattern it turns into minpd/maxpd.
+inline double bitsToDouble(std::uint64_t u) {
+  double d;
+  std::memcpy(&d, &u, sizeof d);
+  return d;
+}
+inline std::uint64_t doubleToBits(double d) {
+  std::uint64_t u;
+  std::memcpy(&u, &d, sizeof u);
+  return u;
+}
+void gradientRowInterior(const double* __restrict zr, const double* __restrict zu,
+                         const double* __restrict zd, const std::uint8_t* __restrict vr,
+                         const std::uint8_t* __restrict vu, const std::uint8_t* __restrict vd,
+                         float* __restrict g, int w) {
+  const double cap = std::numeric_limits<float>::max();
+  const std::uint64_t none = doubleToBits(kGradNone);
+  auto mask = [](std::uint8_t v) { return std::uint64_t{0} - static_cast<std::uint64_t>(v != 0); };
+  auto pick = [none](double d, std::uint64_t m) {
+    return bitsToDouble((doubleToBits(d) & m) | (none & ~m));
+  };
+  for (int x = 1; x + 1 < w; ++x) {
+    const double c = zr[x];
+    const std::uint64_t ml = mask(vr[x - 1]), mr = mask(vr[x + 1]);
+    const std::uint64_t mu = mask(vu[x]), md = mask(vd[x]);
+    const double l = pick(std::fabs(c - zr[x - 1]), ml), r = pick(std::fabs(zr[x + 1] - c), mr);
+    const double u = pick(std::fabs(c - zu[x]), mu), d = pick(std::fabs(zd[x] - c), md);
+    const double mx = l < r ? l : r, my = u < d ? u : d;
+    const double gx = bitsToDouble(doubleToBits(mx) & (ml | mr));  // no side: 0
+    const double gy = bitsToDouble(doubleToBits(my) & (mu | md));
+    const double m = gx > gy ? gx : gy;
+    const double v = m < cap ? m : cap;
+    g[x] = static_cast<float>(bitsToDouble(doubleToBits(v) & mask(vr[x])));
+  }
+}
+
+}  // namespace
+
+void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::uint8_t> valid,
+                          Image<float>* out) {
+  HW_CHECK(out != nullptr);
+  HW_CHECK_EQ(zPrime.width, valid.width);
+  HW_CHECK_EQ(zPrime.height, valid.height);
+  const int w = zPrime.width, h = zPrime.height;
+  if (out->width() != w || out->height() != h) out->resize(w, h);
+  for (int y = 0; y < h; ++y) {
+    const double* zr = zPrime.row(y);
+    const double* zu = y > 0 ? zPrime.row(y - 1) : nullptr;
+    const double* zd = y + 1 < h ? zPrime.row(y + 1) : nullptr;
+    const std::uint8_t* vr = valid.row(y);
+    const std::uint8_t* vu = y > 0 ? valid.row(y - 1) : nullptr;
+    const std::uint8_t* vd = y + 1 < h ? valid.row(y + 1) : nullptr;
+    float* g = out->view().row(y);
+    if (zu != nullptr && zd != nullptr && w > 2) {
+      gradientRowInterior(zr, zu, zd, vr, vu, vd, g, w);
+      g[0] = gradientAt(zr, zu, zd, vr, vu, vd, 0, w);
+      g[w - 1] = gradientAt(zr, zu, zd, vr, vu, vd, w - 1, w);
+    } else {
+      for (int x = 0; x < w; ++x) g[x] = gradientAt(zr, zu, zd, vr, vu, vd, x, w);
+    }
+  }
+}
+
+// The grazing floors of tests/gl/keyframe_lod_gl_test.cpp (24-bit depth)
+// need at most 0.0016 to be clean at τ = 2: 0.005 leaves a 3× margin. Read
+// as a relative slope change: neighbouring pixels whose depth slopes differ
+// by up to 0.5 % (plus τ) count as one plane.
+double suggestedTauGradient() { return 0.005; }
+
 double tauFromParallax(double parallaxPx, const Camera& camera) {
   const double n = camera.nearPlane, f = camera.farPlane;
   return parallaxPx * kZPrimeScale * f * n / (camera.fx() * (f - n));
@@ -121,6 +213,10 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   if (!(options.mergeToleranceZPrime >= 0.0 && std::isfinite(options.mergeToleranceZPrime))) {
     return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
                      std::to_string(options.mergeToleranceZPrime));
+  }
+  if (!(options.tauGradient >= 0.0 && std::isfinite(options.tauGradient))) {
+    return makeError("LOD builder: tauGradient must be finite and >= 0, got " +
+                     std::to_string(options.tauGradient));
   }
   if (options.planarity != Planarity::Stencil && options.planarity != Planarity::RegionLocal) {
     return makeError("LOD builder: unknown planarity " +
@@ -158,6 +254,7 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   emptyPixels_ = static_cast<long long>(w) * h - validCount;
 
   computeDeltaBuffer(zPrime, valid_.view(), options.criterion, &delta_);
+  if (options.tauGradient > 0.0) computeDepthGradient(zPrime, valid_.view(), &grad_);
   deltaMs_ = sw.ms();
   prepared_ = true;
   return {};
@@ -219,7 +316,18 @@ double LodBuilder::subdivide() {
           sat_.data() + static_cast<std::ptrdiff_t>(y) * satStride_;
       std::int32_t* __restrict cur = sat_.data() + static_cast<std::ptrdiff_t>(y + 1) * satStride_;
       cur[0] = 0;
-      for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
+      if (options_.tauGradient > 0.0) {
+        // Per-pixel τ + A·g, capped like τ so that +inf stays dirty.
+        const float* __restrict g = grad_.view().row(y);
+        const double t0 = tauZPrime_, a = options_.tauGradient;
+        const double cap = std::numeric_limits<float>::max();
+        for (int x = 0; x < w; ++x) {
+          const double t = std::min(t0 + a * static_cast<double>(g[x]), cap);
+          cur[x + 1] = static_cast<std::int32_t>(static_cast<double>(d[x]) > t);
+        }
+      } else {
+        for (int x = 0; x < w; ++x) cur[x + 1] = static_cast<std::int32_t>(d[x] > tau);
+      }
       for (int x = 0; x < w; ++x) cur[x + 1] += cur[x];  // row prefix (serial)
       for (int x = 1; x <= w; ++x) cur[x] += prev[x];
     }
@@ -301,7 +409,7 @@ inline bool bothDirty(std::int8_t a, std::int8_t b) { return stencilDirty(a) && 
 
 void LodBuilder::buildLocalTables() {
   const int w = valid_.width(), h = valid_.height();
-  const double tau = tauZPrime_;
+  const bool gradTol = options_.tauGradient > 0.0;
   const bool fivePoint = options_.criterion == DeltaCriterion::FivePoint;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   stateX_.resize(n);
@@ -323,6 +431,10 @@ void LodBuilder::buildLocalTables() {
       sx[x] = sy[x] = kStencilMissing;
       in[x] = 0;
       if (vr[x] == 0) continue;
+      // τ, or τ + A·g(p) (capped so that an overflowing stencil stays dirty).
+      const double tau = gradTol ? std::min(tauAt(static_cast<std::ptrdiff_t>(y) * w + x),
+                                            std::numeric_limits<double>::max())
+                                 : tauZPrime_;
       const bool hasX = x > 0 && x + 1 < w && vr[x - 1] != 0 && vr[x + 1] != 0;
       const bool hasY = zu != nullptr && zd != nullptr && vu[x] != 0 && vd[x] != 0;
       const double dx = hasX ? 2.0 * zr[x] - zr[x - 1] - zr[x + 1] : 0.0;
@@ -493,8 +605,11 @@ void LodBuilder::mergeLeaves() {
   // differences along that direction exceed τ (missing stencils: no
   // evidence).
   const int w = valid_.width(), h = valid_.height();
-  const double tau = tauZPrime_;
+  const bool gradTol = options_.tauGradient > 0.0;
   auto dirtyAt = [&](int x, int y, bool alongY) {
+    const double tau = gradTol ? std::min(tauAt(static_cast<std::ptrdiff_t>(y) * w + x),
+                                          std::numeric_limits<double>::max())
+                               : tauZPrime_;
     const int dx = alongY ? 0 : 1, dy = alongY ? 1 : 0;
     const int xa = x - dx, ya = y - dy, xb = x + dx, yb = y + dy;
     if (xa < 0 || ya < 0 || xb >= w || yb >= h) return false;

@@ -80,8 +80,33 @@ struct LodOptions {
   // rendered plane (NOTES-GL.md: Laplacian residual 3–11, i.e. ±2–3 per
   // pixel). Must be finite and >= 0.
   double mergeToleranceZPrime = 0.0;
+  // Gradient-following tolerance (issue 9, "a fixed τ measures rasteriser
+  // noise"): when > 0, a pixel p is dirty when |Δ²| > τ + tauGradient·g(p),
+  // g(p) the local depth gradient in z' units per pixel (see
+  // computeDepthGradient). Dimensionless: extra z' tolerance per z' unit per
+  // pixel of gradient. Sub-pixel vertex snapping shifts each rendered
+  // triangle's plane by a fraction of a pixel, so the Laplacian's noise on a
+  // plane scales with |∇z'| (NOTES-GL.md). Applies to both planarities (every
+  // stencil test, including the 2-wide step guards) and to the merge's
+  // 2-line step guard; the merge tolerance itself stays absolute. 0 = off:
+  // results bit-identical to the fixed τ. Must be finite and >= 0.
+  double tauGradient = 0.0;
 };
 
+// Robust local depth gradient, z' units per pixel, into `out` (resized only
+// when its size differs; no allocation otherwise). Per axis, the smaller of
+// the two one-sided absolute differences (|z(x+1) − z(x)|, |z(x) − z(x−1)|),
+// so that a depth step does not raise its own tolerance; one-sided where a
+// neighbour is invalid (valid == 0) or off the image, 0 when both are; then
+// g = max over the two axes. Invalid pixels get 0; values (an overflowing
+// difference too) are capped at FLT_MAX.
+void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::uint8_t> valid,
+                          Image<float>* out);
+
+// Suggested LodOptions::tauGradient (CLI --tau-gradient help): a margin
+// over the smallest value that makes rendered planes clean at small τ
+// (printed by tests/gl/keyframe_lod_gl_test.cpp, grazing floor).
+double suggestedTauGradient();
 inline constexpr double kMergeNoiseFloor = 4.0;  // z' units
 inline constexpr int kMaxMergeRun = 256;         // leaves per merged run
 
@@ -117,7 +142,8 @@ class LodBuilder {
   //  - zPrime/covered of different sizes, or not camera.width × camera.height;
   //  - an empty image (0 pixels) or one with more than 2^30 pixels;
   //  - a camera with non-finite pose, fov outside (0, π), or not 0 < near < far;
-  //  - tau / tauParallaxPx / mergeToleranceZPrime negative or non-finite;
+  //  - tau / tauParallaxPx / mergeToleranceZPrime / tauGradient negative or
+  //    non-finite;
   //  - an unknown criterion or planarity.
   // Non-finite z' at a covered pixel is treated as empty. Every corner of the
   // result is finite, with 0 < eyeZ (see clamping in recoverCorners).
@@ -154,6 +180,9 @@ class LodBuilder {
   // Results of the last prepare()/subdivide().
   const Image<float>& delta() const { return delta_; }
   const Image<std::uint8_t>& valid() const { return valid_; }
+  // computeDepthGradient of the last prepare() when tauGradient > 0 (else
+  // not computed: stale or empty).
+  const Image<float>& gradient() const { return grad_; }
   const std::vector<PixelRect>& leaves() const { return leaves_; }
   // Leaves before mergeStrips (equal to leaves().size() without it).
   int leavesBeforeMerge() const { return leavesBeforeMerge_; }
@@ -190,6 +219,11 @@ class LodBuilder {
   long long emptyPixels_ = 0;
   Image<std::uint8_t> valid_;
   Image<float> delta_;
+  Image<float> grad_;  // depth gradient g(p), only when tauGradient > 0
+  // The threshold at pixel index i (y·w + x): τ + tauGradient·g.
+  double tauAt(std::ptrdiff_t i) const {
+    return tauZPrime_ + options_.tauGradient * static_cast<double>(grad_.data()[i]);
+  }
   std::vector<std::int32_t> sat_;  // (w+1)×(h+1) prefix counts of dirty pixels
   std::ptrdiff_t satStride_ = 0;
   // Region-local tables, (w+1)×(h+1) prefix counts each: valid pixels; dirty

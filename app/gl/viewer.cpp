@@ -309,6 +309,9 @@ Status Viewer::setUp() {
                      std::to_string(opt_.width) + "x" + std::to_string(opt_.height));
   if (!(opt_.tau >= 0) || !std::isfinite(opt_.tau))
     return makeError("tau must be finite and >= 0, got " + std::to_string(opt_.tau));
+  if (!(opt_.tauGradient >= 0) || !std::isfinite(opt_.tauGradient))
+    return makeError("tau gradient must be finite and >= 0, got " +
+                     std::to_string(opt_.tauGradient));
   if (!(opt_.keyframeAngleDeg > 0 && opt_.keyframeAngleDeg < 180) ||
       !(opt_.keyframeDistance >= 0) || !std::isfinite(opt_.keyframeDistance))
     return makeError("keyframe thresholds: distance must be >= 0 and angle in (0, 180) degrees");
@@ -345,6 +348,7 @@ Status Viewer::setUp() {
   if (!w) return w.error();
   warper_ = std::move(*w);
   lodOptions_.tau = opt_.tau;
+  lodOptions_.tauGradient = opt_.tauGradient;
 
   auto dp = gl::Program::build("viewer display", kDisplayVs, kDisplayFs);
   if (!dp) return dp.error();

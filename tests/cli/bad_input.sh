@@ -53,6 +53,8 @@ expect_fail path-fov-0 "fov" walk --path "$(path f0 "{$good, \"frames\": 10, \"f
 expect_fail path-fov-180 "fov" walk --path "$(path f180 "{$good, \"frames\": 10, \"fov_y_deg\": 180}")" --out "$tmp/out" --quiet
 expect_fail bad-tau "tau" walk --tau banana --out "$tmp/out" --quiet
 expect_fail negative-tau "tau" walk --tau -5 --out "$tmp/out" --quiet
+expect_fail negative-tau-gradient "tau-gradient.*-0.5" walk --tau-gradient -0.5 --out "$tmp/out" --quiet
+expect_fail nan-tau-gradient "tau-gradient.*nan" walk --tau-gradient nan --out "$tmp/out" --quiet
 expect_fail bad-criterion "criterion" walk --criterion nine-point --out "$tmp/out" --quiet
 expect_fail bad-depth "depth" walk --depth float16 --out "$tmp/out" --quiet
 expect_fail unknown-option "--warp-speed" walk --warp-speed 9 --out "$tmp/out" --quiet

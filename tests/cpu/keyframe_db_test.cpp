@@ -197,10 +197,36 @@ TEST_F(KeyframeDbDir, OpenReadAndMatch) {
   other = prov_;
   other.mesh["tau"] = 4096.0;
   EXPECT_FALSE(db->checkMatches(other).ok());
+  // The gradient tolerance is recorded only when used (a database baked
+  // before it existed still matches a fixed-τ run), and refused both ways.
+  EXPECT_FALSE(prov_.mesh.contains("tau_gradient"));
+  LodOptions grad;
+  grad.tauGradient = 0.005;
+  other = prov_;
+  other.mesh = meshOptionsJson(grad);
+  EXPECT_EQ(other.mesh["tau_gradient"], 0.005);
+  const Status g = db->checkMatches(other);
+  ASSERT_FALSE(g.ok());
+  EXPECT_NE(g.error().message.find("mesh.tau_gradient"), std::string::npos) << g.error().message;
   CachedKeyframe out;
   ASSERT_TRUE(db->read(10, out).ok());
   EXPECT_EQ(out.frame, 10);
   EXPECT_FALSE(db->read(5, out).ok());
+  // A database baked with the gradient tolerance, read by a run without it,
+  // names it too.
+  nlohmann::json ix = nlohmann::json::parse(*readFile(dir_ + "/index.json"));
+  ix["baked_from"]["mesh"] = meshOptionsJson(grad);
+  ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", ix.dump(1)).ok());
+  auto dbGrad = KeyframeDb::open(dir_);
+  ASSERT_TRUE(dbGrad.ok()) << dbGrad.error().message;
+  KeyframeDbProvenance bakedGrad = prov_;
+  bakedGrad.mesh = meshOptionsJson(grad);
+  EXPECT_TRUE(dbGrad->checkMatches(bakedGrad).ok());
+  const Status g2 = dbGrad->checkMatches(prov_);
+  ASSERT_FALSE(g2.ok());
+  EXPECT_NE(g2.error().message.find("mesh.tau_gradient 0.005, this run has null"),
+            std::string::npos)
+      << g2.error().message;
 }
 
 TEST_F(KeyframeDbDir, CorruptTruncatedAndReplacedFilesAreNamed) {

@@ -29,17 +29,23 @@ struct Variant {
   Planarity planarity;
   DeltaCriterion criterion;
   bool merge;
+  double tauGradient = 0;  // LodOptions::tauGradient (keyframe_gradtol_test)
   std::string name() const {
     return std::string(planarityName(planarity)) + "/" + deltaCriterionName(criterion) +
-           (merge ? "/merge" : "");
+           (merge ? "/merge" : "") + (tauGradient > 0 ? "/grad" : "");
   }
 };
 
+// The variants, then the gradient tolerance (at 4× the suggested
+// value, to stress it) with both planarities, five-point, merged or not.
 std::vector<Variant> allVariants() {
   std::vector<Variant> v;
   for (Planarity p : {Planarity::Stencil, Planarity::RegionLocal})
     for (DeltaCriterion c : {DeltaCriterion::FivePoint, DeltaCriterion::PerAxisMax})
       for (bool m : {false, true}) v.push_back({p, c, m});
+  for (Planarity p : {Planarity::Stencil, Planarity::RegionLocal})
+    for (bool m : {false, true})
+      v.push_back({p, DeltaCriterion::FivePoint, m, 4 * suggestedTauGradient()});
   return v;
 }
 
@@ -49,6 +55,7 @@ LodOptions optionsFor(const Variant& v, double tau) {
   o.criterion = v.criterion;
   o.planarity = v.planarity;
   o.mergeStrips = v.merge;
+  o.tauGradient = v.tauGradient;
   return o;
 }
 
@@ -326,10 +333,13 @@ TEST(LodStrips, RegionLocalAvoidsEdgeStripsWithoutStraddlingEdges) {
       for (const Variant& v : allVariants()) {
         if (v.criterion != c) continue;
         SCOPED_TRACE(v.name() + " tau " + std::to_string(tau));
-        const QuadMesh mesh = buildChecked(kf, optionsFor(v, tau));
+        LodBuilder builder;
+        const QuadMesh mesh = buildChecked(kf, optionsFor(v, tau), &builder);
         const int p = v.planarity == Planarity::RegionLocal, m = v.merge;
-        quads[p][m] = mesh.stats.quads;
-        onePixel[p][m] = mesh.stats.onePixelLeaves;
+        if (v.tauGradient == 0) {
+          quads[p][m] = mesh.stats.quads;
+          onePixel[p][m] = mesh.stats.onePixelLeaves;
+        }
         // No leaf holds the wall and a box (they are apart in depth, so that
         // would be a straddled step). The plane fit over a leaf departs from
         // z' by at most 2τ (plus the merge tolerance): second differences
@@ -340,18 +350,27 @@ TEST(LodStrips, RegionLocalAvoidsEdgeStripsWithoutStraddlingEdges) {
         // pixel further, sees the next slope change) at 2^11, and 1.25·τ /
         // 1.98·τ at 2^15 (box sides seen obliquely). A straddled step would
         // be ≥ 4·2^15.
-        const double bound = 2 * tau + (v.merge ? std::max(tau / 4, kMergeNoiseFloor) : 0.0);
-        double worstResidual = 0;
+        // With the gradient tolerance the same holds with τ replaced by the
+        // leaf's largest τ + A·g.
+        const double mergeTol = v.merge ? std::max(tau / 4, kMergeNoiseFloor) : 0.0;
+        double worstResidual = 0, worstExcess = 0;
         int mixed = 0;
         for (const Quad& q : mesh.quads) {
           const PixelRect& r = q.rect;
           const int id = ids(r.x0, r.y0);
+          float gMax = 0;
           for (int y = r.y0; y < r.y1; ++y)
-            for (int x = r.x0; x < r.x1; ++x) mixed += ids(x, y) != id && ids(x, y) * id == 0;
-          worstResidual = std::max(worstResidual, fitResidual(kf, r));
+            for (int x = r.x0; x < r.x1; ++x) {
+              mixed += ids(x, y) != id && ids(x, y) * id == 0;
+              if (v.tauGradient > 0) gMax = std::max(gMax, builder.gradient()(x, y));
+            }
+          const double residual = fitResidual(kf, r);
+          worstResidual = std::max(worstResidual, residual);
+          worstExcess =
+              std::max(worstExcess, residual - (2 * (tau + v.tauGradient * gMax) + mergeTol));
         }
         EXPECT_EQ(mixed, 0);
-        EXPECT_LE(worstResidual, bound);
+        EXPECT_LE(worstExcess, 0.0) << "residual beyond 2·(τ + A·g) + merge tolerance";
         std::printf("  %s tau %g: worst leaf residual %.0f z'\n", v.name().c_str(), tau,
                     worstResidual);
       }

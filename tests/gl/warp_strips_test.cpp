@@ -62,43 +62,50 @@ TEST_F(StripsGlTest, EveryVariantReproducesTheKeyframeAtItsCamera) {
     cam.width = cam.height = 256;
     keyframe::Keyframe kf;
     ASSERT_TRUE((*r)->renderKeyframe(cam, kf).ok());
-    for (double tau : {2048.0, 32768.0})
+    // The variants at the paper's τ; the gradient tolerance
+    // (five-point, 4× its suggested value) also at a small τ, where it acts.
+    for (double tau : {8.0, 2048.0, 32768.0})
       for (auto planarity : {keyframe::Planarity::Stencil, keyframe::Planarity::RegionLocal})
         for (auto crit :
              {keyframe::DeltaCriterion::FivePoint, keyframe::DeltaCriterion::PerAxisMax})
-          for (bool merge : {false, true}) {
-            keyframe::LodOptions o;
-            o.tau = tau;
-            o.criterion = crit;
-            o.planarity = planarity;
-            o.mergeStrips = merge;
-            const std::string what = "frame " + std::to_string(frame) + " tau " +
-                                     std::to_string(static_cast<int>(tau)) + " " +
-                                     keyframe::planarityName(planarity) + "/" +
-                                     keyframe::deltaCriterionName(crit) + (merge ? "/merge" : "");
-            SCOPED_TRACE(what);
-            keyframe::QuadMesh mesh;
-            ASSERT_TRUE(builder.build(kf, o, &mesh).ok());
-            expectTiling(kf, mesh);
-            auto src = (*warper)->upload(kf, mesh);
-            ASSERT_TRUE(src.ok()) << src.error().message;
-            warp::Layer layer;
-            ASSERT_TRUE((*warper)->warp(**src, cam, layer).ok());
-            long long uncovered = 0;
-            for (std::size_t i = 0; i < kf.covered.size(); ++i)
-              uncovered += kf.covered.data()[i] && !layer.coverage.data()[i];
-            EXPECT_EQ(uncovered, 0);
-            const double p = psnr(layer.colour, kf.colour);
-            if (!(p >= 50.0)) {
-              const std::string base = ::testing::TempDir() + "strips_" + std::to_string(frame);
-              (void)writePng(base + "_actual.png", layer.colour);
-              (void)writePng(base + "_expected.png", kf.colour);
-              (void)writePng(base + "_diff.png", diffImage(layer.colour, kf.colour, 4));
+          for (bool merge : {false, true})
+            for (double grad : {0.0, 4 * keyframe::suggestedTauGradient()}) {
+              if (grad == 0 && tau == 8.0) continue;  // fixed τ = 8: many quads, slow
+              if (grad > 0 && crit != keyframe::DeltaCriterion::FivePoint) continue;
+              keyframe::LodOptions o;
+              o.tau = tau;
+              o.criterion = crit;
+              o.planarity = planarity;
+              o.mergeStrips = merge;
+              o.tauGradient = grad;
+              const std::string what = "frame " + std::to_string(frame) + " tau " +
+                                       std::to_string(static_cast<int>(tau)) + " " +
+                                       keyframe::planarityName(planarity) + "/" +
+                                       keyframe::deltaCriterionName(crit) +
+                                       (merge ? "/merge" : "") + (grad > 0 ? "/grad" : "");
+              SCOPED_TRACE(what);
+              keyframe::QuadMesh mesh;
+              ASSERT_TRUE(builder.build(kf, o, &mesh).ok());
+              expectTiling(kf, mesh);
+              auto src = (*warper)->upload(kf, mesh);
+              ASSERT_TRUE(src.ok()) << src.error().message;
+              warp::Layer layer;
+              ASSERT_TRUE((*warper)->warp(**src, cam, layer).ok());
+              long long uncovered = 0;
+              for (std::size_t i = 0; i < kf.covered.size(); ++i)
+                uncovered += kf.covered.data()[i] && !layer.coverage.data()[i];
+              EXPECT_EQ(uncovered, 0);
+              const double p = psnr(layer.colour, kf.colour);
+              if (!(p >= 50.0)) {
+                const std::string base = ::testing::TempDir() + "strips_" + std::to_string(frame);
+                (void)writePng(base + "_actual.png", layer.colour);
+                (void)writePng(base + "_expected.png", kf.colour);
+                (void)writePng(base + "_diff.png", diffImage(layer.colour, kf.colour, 4));
+              }
+              EXPECT_GE(p, 50.0);
+              std::printf("%s: %d quads, %d one-pixel, %.1f dB\n", what.c_str(), mesh.stats.quads,
+                          mesh.stats.onePixelLeaves, p);
             }
-            EXPECT_GE(p, 50.0);
-            std::printf("%s: %d quads, %d one-pixel, %.1f dB\n", what.c_str(), mesh.stats.quads,
-                        mesh.stats.onePixelLeaves, p);
-          }
   }
 }
 
