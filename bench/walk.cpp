@@ -104,6 +104,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   warp::WarpOptions wopt = opt.warp;
   // Only the depth merge and the near-object composition read the layers' eye z.
   wopt.writeEyeZ = opt.compose.mode == gapfill::ComposeMode::DepthMerge || opt.nearDistance > 0;
+  // The large-leaf mask only feeds psnr_large_quads: without a reference it is not made.
+  wopt.markLargeQuads = wopt.markLargeQuads && opt.reference;
   auto warperR = warp::Warper::create(wopt);
   if (!warperR) return warperR.error();
   auto& warper = **warperR;

@@ -103,8 +103,20 @@ double AsyncKeyframes::runSlice() {
   if (!options_.slices || options_.framesPerKeyframe <= 0) return 0.0;
   Stopwatch sw;
   std::unique_lock lock(mutex_);
-  if (workerExited_ || (idle_ && queue_.empty())) return 0.0;
-  sliceBudgetMs_ = std::max(0.5, options_.budgetScale * sharedLastBuildMs_ / options_.framesPerKeyframe);
+  if (workerExited_ || (idle_ && queue_.empty())) {
+    sliceDebtMs_ = 0;  // nothing to do: no overshoot to pay back
+    return 0.0;
+  }
+  // The share of a frame; a slice ends after the step that uses it up, so
+  // what a slice ran over is taken off the next one (the slices average the
+  // share instead of share + half a step).
+  const double share =
+      std::max(0.5, options_.budgetScale * sharedLastBuildMs_ / options_.framesPerKeyframe);
+  if (sliceDebtMs_ >= share) {
+    sliceDebtMs_ -= share;
+    return 0.0;
+  }
+  sliceBudgetMs_ = share - sliceDebtMs_;
   sliceUsedMs_ = 0;
   sliceOpen_ = true;
   workCv_.notify_all();
@@ -112,6 +124,7 @@ double AsyncKeyframes::runSlice() {
     return workerExited_ || (idle_ && queue_.empty()) || (parked_ && sliceUsedMs_ >= sliceBudgetMs_);
   });
   sliceOpen_ = false;
+  sliceDebtMs_ = parked_ ? std::max(0.0, sliceUsedMs_ - sliceBudgetMs_) : 0.0;
   return sw.ms();
 }
 

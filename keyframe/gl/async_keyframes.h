@@ -133,6 +133,7 @@ class AsyncKeyframes final : public KeyframeProducer {
   // last build's cost as the main thread may read it.
   bool sliceOpen_ = false, parked_ = false, idle_ = false;
   double sliceBudgetMs_ = 0, sliceUsedMs_ = 0, lastStepMs_ = 0, sharedLastBuildMs_ = 0;
+  double sliceDebtMs_ = 0;  // what the last slice ran over its budget
   Stopwatch clock_;
   int built_ = 0;
   double busyMs_ = 0;
