@@ -611,7 +611,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       // Pixels whose colour came from a large leaf of either layer (the ones
       // subdivision changes; previous-frame fill, near objects, refresh: not).
       // Unknown with the depth merge, which does not say which layer won.
-      if (opt.warp.markLargeQuads && (fused || opt.compose.mode == gapfill::ComposeMode::Overlay)) {
+      if (wopt.markLargeQuads && (fused || opt.compose.mode == gapfill::ComposeMode::Overlay)) {
         Image<std::uint8_t>& large = layerA.largeQuad;
         if (!fused && !bgSkipped)
           for (std::size_t p = 0; p < large.size(); ++p)
