@@ -275,6 +275,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
   json plannerRows = json::array();
   std::vector<double> pwx, pwmed, pmx, pmmed, pdx, pdmed, pfx, pfmed;
   double inSampleBestKf = std::nan("");
+  std::string featureCsv =
+      "k0,k1,frame,psnr,rel_distance,angle_deg,hole_fraction,stretch,disagreement_mse\n";
   json inSampleFit = nullptr;
   double plannerBestKf = std::nan("");
   std::string plannerBestCriterion;
@@ -330,6 +332,10 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
           if (!ft) return ft.error();
           feats.push_back(*ft);
           measured.push_back(table.at(k0, k1, f));
+          featureCsv += std::to_string(k0) + "," + std::to_string(k1) + "," + std::to_string(f) +
+                        "," + exact(table.at(k0, k1, f)) + "," + exact(ft->relDistance) + "," +
+                        exact(ft->angleDeg) + "," + exact(ft->holeFraction) + "," +
+                        exact(ft->stretch) + "," + exact(ft->disagreementMse) + "\n";
         }
     const keyframe::PsnrFit fit =
         keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
@@ -452,6 +458,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
                  exact(table.at(k0, k1, f)) + "\n";
     HW_TRY(writeFileAtomic(opt.outDir + "/segments.csv", seg));
   }
+  // The planner's features of every (k0, k1, frame) next to its PSNR.
+  if (opt.planner) HW_TRY(writeFileAtomic(opt.outDir + "/features.csv", featureCsv));
   HW_TRY(writeFileAtomic(opt.outDir + "/oracle.json", doc.dump(1)));
   return doc;
 }

@@ -94,7 +94,8 @@ Result<SegmentTable> readSegmentTable(const std::string& csvText, const std::str
 
 // A GL context must be current. Fills the table with walks, then writes
 // oracle.json (headline, fixed and oracle curves, schedules), oracle.csv,
-// oracle.png and segments.csv (the table: k0,k1,frame,psnr) into outDir. Returns the oracle.json document.
+// oracle.png, segments.csv (the table: k0,k1,frame,psnr) and, with the planner,
+// features.csv (its probe features of every entry) into outDir. Returns the oracle.json document.
 Result<nlohmann::json> runScheduleOracle(const scenes::Scene& scene, const std::string& sceneLabel,
                                          const scenes::CameraPath& path,
                                          const ScheduleOracleOptions& options);
