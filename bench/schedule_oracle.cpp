@@ -175,9 +175,13 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
   for (int g = 2; g <= opt.maxGap && opt.tableCsv.empty(); ++g)
     for (int o = 0; o < g; ++o) {
       ++walkNo;
-      if (opt.progress)
-        std::fprintf(stderr, "\rschedule-oracle %s: walk %d/%d (gap %d, offset %d), %.0f s   ",
-                     sceneLabel.c_str(), walkNo, walks, g, o, all.ms() / 1000.0);
+      if (opt.progress) {
+        const double el = all.ms() / 1000.0;
+        std::fprintf(stderr, "\rschedule-oracle %s: walk %d/%d (gap %d, offset %d), elapsed %.0f s, ETA %.0f s   ",
+                     sceneLabel.c_str(), walkNo, walks, g, o, el,
+                     walkNo > 1 ? el / (walkNo - 1) * (walks - walkNo + 1) : 0.0);
+        std::fflush(stderr);
+      }
       std::vector<int> keys{0};
       for (int k = o; k < frames; k += g)
         if (k > 0) keys.push_back(k);

@@ -344,6 +344,7 @@ Status Viewer::setUp() {
   renderer_ = std::move(*r);
   warp::WarpOptions wopt;
   wopt.writeEyeZ = false;  // overlay composition does not read it
+  wopt.markLargeQuads = false;  // only the walk's psnr_large_quads reads it
   auto w = warp::Warper::create(wopt);
   if (!w) return w.error();
   warper_ = std::move(*w);
