@@ -110,6 +110,47 @@ bool parseTauGradient(const std::string& s, double* out, std::string* err) {
   return false;
 }
 
+// LOD options shared by the schedule commands (schedule-study, schedule-oracle).
+struct StudyLod {
+  std::string tau = "2^11", planarity = "region-local";
+  bool noMerge = false;
+};
+
+void addStudyLodOptions(CLI::App* c, StudyLod& o) {
+  c->add_option("--tau", o.tau, "LOD threshold in z' units ('2^11' or '2048')")->capture_default_str();
+  c->add_option("--planarity", o.planarity, "stencil (paper) or region-local")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  c->add_flag("--no-merge-strips", o.noMerge, "Do not merge coplanar leaves");
+}
+
+// Empty on success, else the message for the user.
+std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod) {
+  if (!parseTau(o.tau, &lod->tau))
+    return "--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tau + "'";
+  keyframe::parsePlanarity(o.planarity.c_str(), &lod->planarity);
+  lod->mergeStrips = !o.noMerge;
+  return {};
+}
+
+// --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
+// bound, named by maxName in the message). Empty on success, else the message.
+std::string parseSpacings(const std::string& text, int maxSpacing, const std::string& maxName,
+                          std::vector<int>* out) {
+  std::vector<double> v;
+  if (!parseList(text, &v) || v.empty())
+    return "--spacings: expected comma-separated frame counts like 4,10,20, got '" + text + "'";
+  out->clear();
+  for (double d : v) {
+    if (d < 1 || d != std::floor(d) || (maxSpacing > 0 && d > maxSpacing))
+      return maxSpacing > 0 ? "--spacings: expected whole numbers from 1 to " + maxName + " " +
+                                  std::to_string(maxSpacing) + ", got '" + text + "'"
+                            : "--spacings: expected whole numbers >= 1, got '" + text + "'";
+    out->push_back(static_cast<int>(d));
+  }
+  return {};
+}
+
 // Keyframe schedule options of walk and schedule-study (issue #8).
 void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto) {
@@ -798,10 +839,10 @@ int main(int argc, char** argv) {
 
   // schedule-study
   Common studyC;
-  std::string studyOut = "out/schedule", studyTau = "2^11", studyPlanarity = "region-local",
-              studySpacings = "4,6,8,10,15,20", studyTargets, studyPredictor = "auto",
-              studyPlanBy = "worst";
-  bool studyNoMerge = false, studyQuiet = false;
+  std::string studyOut = "out/schedule", studySpacings = "4,6,8,10,15,20", studyTargets,
+              studyPredictor = "auto", studyPlanBy = "worst";
+  StudyLod studyLod;
+  bool studyQuiet = false;
   int studyRef = 10;
   keyframe::PlannerOptions studyPlan;
   auto* studyCmd = app.add_subcommand(
@@ -811,12 +852,7 @@ int main(int argc, char** argv) {
       "target PSNRs; keyframes per 100 frames vs median/p5 in-between PSNR. Writes "
       "schedule.json, runs.csv, correlation.csv, schedule.png, predictor.png, index.html");
   addCommon(studyCmd, studyC);
-  studyCmd->add_option("--tau", studyTau, "LOD threshold in z' units ('2^11' or '2048')")
-      ->capture_default_str();
-  studyCmd->add_option("--planarity", studyPlanarity, "stencil (paper) or region-local")
-      ->check(CLI::IsMember({"stencil", "region-local"}))
-      ->capture_default_str();
-  studyCmd->add_flag("--no-merge-strips", studyNoMerge, "Do not merge coplanar leaves");
+  addStudyLodOptions(studyCmd, studyLod);
   studyCmd->add_option("--spacings", studySpacings, "Fixed schedules: keyframe_every values, frames")
       ->capture_default_str();
   studyCmd->add_option("--reference-spacing", studyRef,
@@ -832,9 +868,9 @@ int main(int argc, char** argv) {
 
   // schedule-oracle
   Common oracleC;
-  std::string oracleOut = "out/schedule-oracle", oracleTau = "2^11", oraclePlanarity = "region-local",
-              oracleSpacings = "4,6,8,10,15,20";
-  bool oracleNoMerge = false, oracleQuiet = false;
+  std::string oracleOut = "out/schedule-oracle", oracleSpacings = "4,6,8,10,15,20";
+  StudyLod oracleLod;
+  bool oracleQuiet = false;
   int oracleRef = 10, oracleMaxGap = 20, oracleWidth = 0, oracleHeight = 0;
   auto* oracleCmd = app.add_subcommand(
       "schedule-oracle",
@@ -842,14 +878,10 @@ int main(int argc, char** argv) {
       "frame for every keyframe pair up to --max-gap frames apart (--max-gap*(--max-gap+1)/2-1 "
       "walks), then finds by dynamic programming the fewest keyframes whose median in-between "
       "PSNR reaches each fixed schedule's. The bound for issue #8's error-driven schedule. "
-      "Writes oracle.json, oracle.csv, oracle.png");
+      "Writes oracle.json, oracle.csv, oracle.png, segments.csv (the measured table, for "
+      "--table) and features.csv (the planner's probe features of every entry)");
   addCommon(oracleCmd, oracleC);
-  oracleCmd->add_option("--tau", oracleTau, "LOD threshold in z' units ('2^11' or '2048')")
-      ->capture_default_str();
-  oracleCmd->add_option("--planarity", oraclePlanarity, "stencil (paper) or region-local")
-      ->check(CLI::IsMember({"stencil", "region-local"}))
-      ->capture_default_str();
-  oracleCmd->add_flag("--no-merge-strips", oracleNoMerge, "Do not merge coplanar leaves");
+  addStudyLodOptions(oracleCmd, oracleLod);
   oracleCmd->add_option("--max-gap", oracleMaxGap,
                         "Longest gap between keyframes considered, frames (cost grows with its square)")
       ->check(CLI::Range(2, 60))
@@ -1174,24 +1206,13 @@ int main(int argc, char** argv) {
 
   if (studyCmd->parsed()) {
     bench::ScheduleStudyOptions so;
-    std::vector<double> v;
-    if (!parseList(studySpacings, &v) || v.empty())
-      return fail("--spacings: expected comma-separated frame counts like 4,10,20, got '" + studySpacings + "'");
-    so.fixedSpacings.clear();
-    for (double d : v) {
-      if (d < 1 || d != std::floor(d))
-        return fail("--spacings: expected whole numbers >= 1, got '" + studySpacings + "'");
-      so.fixedSpacings.push_back(static_cast<int>(d));
-    }
+    if (std::string e = parseSpacings(studySpacings, 0, "", &so.fixedSpacings); !e.empty()) return fail(e);
     if (!studyTargets.empty() && !parseList(studyTargets, &so.targets))
       return fail("--targets: expected comma-separated dB values like 28,30,32, got '" + studyTargets + "'");
     if (studyPlan.minGap > studyPlan.maxGap)
       return fail("--min-gap " + std::to_string(studyPlan.minGap) + " exceeds --max-gap " +
                   std::to_string(studyPlan.maxGap));
-    if (!parseTau(studyTau, &so.walk.lod.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + studyTau + "'");
-    keyframe::parsePlanarity(studyPlanarity.c_str(), &so.walk.lod.planarity);
-    so.walk.lod.mergeStrips = !studyNoMerge;
+    if (std::string e = applyStudyLod(studyLod, &so.walk.lod); !e.empty()) return fail(e);
     so.walk.depthMode = depthModeOf(studyC.depth);
     so.walk.maxFrames = studyC.frames;
     so.referenceSpacing = studyRef;
@@ -1226,25 +1247,15 @@ int main(int argc, char** argv) {
 
   if (oracleCmd->parsed()) {
     bench::ScheduleOracleOptions so;
-    std::vector<double> v;
-    if (!parseList(oracleSpacings, &v) || v.empty())
-      return fail("--spacings: expected comma-separated frame counts like 4,10,20, got '" + oracleSpacings + "'");
-    so.fixedSpacings.clear();
-    for (double d : v) {
-      if (d < 1 || d != std::floor(d) || d > oracleMaxGap)
-        return fail("--spacings: expected whole numbers from 1 to --max-gap " +
-                    std::to_string(oracleMaxGap) + ", got '" + oracleSpacings + "'");
-      so.fixedSpacings.push_back(static_cast<int>(d));
-    }
+    if (std::string e = parseSpacings(oracleSpacings, oracleMaxGap, "--max-gap", &so.fixedSpacings);
+        !e.empty())
+      return fail(e);
     if (std::find(so.fixedSpacings.begin(), so.fixedSpacings.end(), oracleRef) == so.fixedSpacings.end())
       return fail("--reference-spacing: expected one of --spacings '" + oracleSpacings + "', got " +
                   std::to_string(oracleRef));
     if ((oracleWidth > 0 && oracleWidth < 16) || (oracleHeight > 0 && oracleHeight < 16))
       return fail("--width/--height: expected 0 (the path's) or at least 16 pixels");
-    if (!parseTau(oracleTau, &so.walk.lod.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + oracleTau + "'");
-    keyframe::parsePlanarity(oraclePlanarity.c_str(), &so.walk.lod.planarity);
-    so.walk.lod.mergeStrips = !oracleNoMerge;
+    if (std::string e = applyStudyLod(oracleLod, &so.walk.lod); !e.empty()) return fail(e);
     so.walk.depthMode = depthModeOf(oracleC.depth);
     so.walk.maxFrames = oracleC.frames;
     so.referenceSpacing = oracleRef;

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <iterator>
 #include <optional>
+#include <utility>
 
 #include "bench/plot.h"
 #include "core/check.h"
@@ -277,7 +279,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
   }
   // The planner on the same table.
   json plannerRows = json::array();
-  std::vector<double> pwx, pwmed, pmx, pmmed, pdx, pdmed, pfx, pfmed;
+  // Per planner curve (label): keyframes per 100 frames and median, for the plot.
+  std::vector<std::pair<std::string, Series>> curves;
   double inSampleBestKf = std::nan("");
   std::string featureCsv =
       "k0,k1,frame,psnr,rel_distance,angle_deg,hole_fraction,stretch,disagreement_mse\n";
@@ -294,33 +297,49 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     if (!rr) return rr.error();
     keyframe::KeyframeProbe probe(**rr, [&](int i) { return path.cameraAt(i); },
                                   opt.plannerOptions.probeSize);
-    for (keyframe::PlanCriterion c :
-         {keyframe::PlanCriterion::WorstFrame, keyframe::PlanCriterion::SegmentMedian,
-          keyframe::PlanCriterion::WalkMedian}) {
+    const int gmax = std::min(opt.plannerOptions.maxGap, opt.maxGap);
+    // One plan per target with `base` (criterion, fit), scored on the table;
+    // returns the fewest keyframes per 100 frames reaching the reference.
+    auto sweepTargets = [&](const keyframe::PlannerOptions& base,
+                            const std::string& label) -> Result<double> {
+      Series* curve = nullptr;
+      for (auto& [l, c] : curves)
+        if (l == label) curve = &c;
+      if (!curve) curve = &curves.emplace_back(label, Series{}).second;
+      double best = std::nan("");
       for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += opt.plannerTargetStep) {
-        keyframe::PlannerOptions po = opt.plannerOptions;
+        keyframe::PlannerOptions po = base;
         po.targetPsnrDb = t;
-        po.criterion = c;
-        po.maxGap = std::min(po.maxGap, opt.maxGap);
+        po.maxGap = gmax;
         po.minGap = std::min(po.minGap, po.maxGap);
         auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
         if (!plan) return plan.error();
         auto sp = schedulePsnr(table, plan->keyframes);
         if (!sp) return sp.error();
         const double kf = 100.0 * static_cast<double>(plan->keyframes.size()) / frames;
-        plannerRows.push_back({{"criterion", keyframe::planCriterionName(c)},
+        plannerRows.push_back({{"criterion", label},
                                {"target", t},
                                {"keyframes", plan->keyframes.size()},
                                {"keyframes_per_100", kf},
                                {"psnr_median", sp->median},
                                {"psnr_lower_median", sp->lowerMedian},
                                {"psnr_p5", sp->p5}});
-        (c == keyframe::PlanCriterion::WorstFrame ? pwx : c == keyframe::PlanCriterion::WalkMedian ? pdx : pmx).push_back(kf);
-        (c == keyframe::PlanCriterion::WorstFrame ? pwmed : c == keyframe::PlanCriterion::WalkMedian ? pdmed : pmmed).push_back(sp->median);
-        if (sp->lowerMedian >= refLower && !(kf >= plannerBestKf)) {
-          plannerBestKf = kf;
-          plannerBestCriterion = keyframe::planCriterionName(c);
-        }
+        curve->x.push_back(kf);
+        curve->y.push_back(sp->median);
+        if (sp->lowerMedian >= refLower && !(kf >= best)) best = kf;
+      }
+      return best;
+    };
+    for (keyframe::PlanCriterion c :
+         {keyframe::PlanCriterion::WorstFrame, keyframe::PlanCriterion::SegmentMedian,
+          keyframe::PlanCriterion::WalkMedian}) {
+      keyframe::PlannerOptions po = opt.plannerOptions;
+      po.criterion = c;
+      auto best = sweepTargets(po, keyframe::planCriterionName(c));
+      if (!best) return best.error();
+      if (!(*best >= plannerBestKf)) {
+        plannerBestKf = *best;
+        plannerBestCriterion = keyframe::planCriterionName(c);
       }
     }
     // The same predictor fitted on this table (in-sample: the path's own
@@ -328,7 +347,6 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     // fit's scale is right for the scene.
     std::vector<keyframe::FrameFeatures> feats;
     std::vector<double> measured;
-    const int gmax = std::min(opt.plannerOptions.maxGap, opt.maxGap);
     for (int k0 = 0; k0 < frames; ++k0)
       for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
         for (int f = k0 + 1; f < k1; ++f) {
@@ -345,30 +363,13 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
     if (std::isfinite(fit.intercept) && std::isfinite(fit.slope)) {
       inSampleFit = {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}};
-      for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += opt.plannerTargetStep) {
-        keyframe::PlannerOptions po = opt.plannerOptions;
-        po.targetPsnrDb = t;
-        po.criterion = keyframe::PlanCriterion::WalkMedian;
-        po.maxGap = gmax;
-        po.minGap = std::min(po.minGap, po.maxGap);
-        po.useDefaultFit = false;
-        po.fit = fit;
-        auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
-        if (!plan) return plan.error();
-        auto sp = schedulePsnr(table, plan->keyframes);
-        if (!sp) return sp.error();
-        const double kf = 100.0 * static_cast<double>(plan->keyframes.size()) / frames;
-        plannerRows.push_back({{"criterion", "walk-median, fit on this table"},
-                               {"target", t},
-                               {"keyframes", plan->keyframes.size()},
-                               {"keyframes_per_100", kf},
-                               {"psnr_median", sp->median},
-                               {"psnr_lower_median", sp->lowerMedian},
-                               {"psnr_p5", sp->p5}});
-        pfx.push_back(kf);
-        pfmed.push_back(sp->median);
-        if (sp->lowerMedian >= refLower && !(kf >= inSampleBestKf)) inSampleBestKf = kf;
-      }
+      keyframe::PlannerOptions po = opt.plannerOptions;
+      po.criterion = keyframe::PlanCriterion::WalkMedian;
+      po.useDefaultFit = false;
+      po.fit = fit;
+      auto best = sweepTargets(po, "walk-median, fit on this table");
+      if (!best) return best.error();
+      inSampleBestKf = *best;
     }
   }
   json headline = {{"reference_spacing", opt.referenceSpacing},
@@ -422,26 +423,18 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     fs.x = fx, fs.y = fmed;
     os.label = "best possible schedule (oracle)";
     os.x = ox, os.y = omed;
-    Series pw, pm;
-    pw.label = "error-driven planner, worst-frame criterion";
-    pw.x = pwx, pw.y = pwmed;
-    pm.label = "error-driven planner, segment-median criterion";
-    pm.x = pmx, pm.y = pmmed;
-    Series pd;
-    pd.label = "error-driven planner, walk-median criterion (dynamic programming)";
-    pd.x = pdx, pd.y = pdmed;
-    pw.lines = pm.lines = pd.lines = false;
-    pd.colour = plotPalette()[4];
-    Series pf;
-    pf.label = "walk-median planner, predictor fitted on this table (in-sample)";
-    pf.x = pfx, pf.y = pfmed;
-    pf.lines = false;
-    pf.colour = plotPalette()[5];
     const auto& pal = plotPalette();
     fs.colour = pal[0];
     os.colour = pal[2];
-    pw.colour = pal[1];
-    pm.colour = pal[3];
+    std::vector<Series> series{fs, os};
+    const std::size_t planColour[] = {1, 3, 4, 5};  // worst, median, walk-median, in-sample fit
+    for (std::size_t i = 0; i < curves.size(); ++i) {
+      Series c = curves[i].second;
+      c.label = "error-driven planner, " + curves[i].first;
+      c.lines = false;
+      c.colour = pal[planColour[std::min(i, std::size(planColour) - 1)]];
+      series.push_back(c);
+    }
     PlotOptions po;
     po.title = "Median in-between PSNR vs keyframes: " + sceneLabel + " (" + std::to_string(frames) +
                " frames, " + std::to_string(path.width) + "x" + std::to_string(path.height) + ")";
@@ -449,7 +442,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     po.yLabel = "median in-between PSNR (dB)";
     po.width = 900;
     po.height = 560;
-    HW_TRY(writePlot(opt.outDir + "/oracle.png", {fs, os, pw, pm, pd, pf}, po));
+    HW_TRY(writePlot(opt.outDir + "/oracle.png", series, po));
   }
   HW_TRY(writeFileAtomic(opt.outDir + "/oracle.csv", csv));
   {
