@@ -598,23 +598,56 @@ int main(int argc, char** argv) {
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
-  double frameBudgetMs = 0;
+  std::string frameBudgetArg = "0";
+  double frameBudgetQuantile = 0.9;
+  int frameBudgetWindow = 30;
   int staleAfter = 2;
   bool noFramePacing = false, pixelAge = false;
-  walk->add_option("--frame-budget-ms", frameBudgetMs,
-                   "Per-frame time budget in milliseconds of frame work (0 = off): with time "
-                   "left after an in-between frame is composed, the region of pixels carried "
-                   "over from earlier frames longest is re-rendered by the geometry renderer if "
-                   "its estimated cost fits, and frames are presented every this many ms")
+  walk->add_option("--frame-budget-ms", frameBudgetArg,
+                   "Per-frame time budget in milliseconds of frame work (0 = off), or 'auto': "
+                   "with time left after an in-between frame is composed, the region of pixels "
+                   "carried over from earlier frames longest is re-rendered by the geometry "
+                   "renderer if its estimated cost fits, and frames are presented every this "
+                   "many ms. 'auto' sets each frame's budget to the --frame-budget-quantile of "
+                   "the work (without refresh) of the last --frame-budget-window in-between "
+                   "frames, so the frame rate stays steady on any scene and machine")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            if (v == "auto") return {};
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
+              return "expected milliseconds from 0 (off) to 60000, or 'auto', got '" + v + "'";
+            return {};
+          },
+          "MS|auto", "frame budget"))
+      ->capture_default_str();
+  walk->add_option("--frame-budget-quantile", frameBudgetQuantile,
+                   "With --frame-budget-ms auto: the budget is this quantile of the recent "
+                   "in-between frames' work (above 0, at most 1; 0.9 = 90th percentile: about "
+                   "one frame in ten is late, the others present at the budget)")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {
             char* end = nullptr;
             const double x = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
-              return "expected milliseconds from 0 (off) to 60000, got '" + v + "'";
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1)
+              return "expected a quantile above 0 and at most 1, got '" + v + "'";
             return {};
           },
-          "MS", "frame budget"))
+          "Q", "budget quantile"))
+      ->capture_default_str();
+  walk->add_option("--frame-budget-window", frameBudgetWindow,
+                   "With --frame-budget-ms auto: how many of the last in-between frames the "
+                   "quantile is taken over (frames, 1 to 100000)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const long x = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || x < 1 || x > 100000)
+              return "expected a whole number of frames from 1 to 100000, got '" + v + "'";
+            return {};
+          },
+          "FRAMES", "budget window"))
       ->capture_default_str();
   walk->add_option("--stale-after", staleAfter,
                    "With --frame-budget-ms: frames a pixel must have been carried over from the "
@@ -1378,7 +1411,12 @@ int main(int argc, char** argv) {
                      : keyframePacing == "steps"  ? bench::WalkOptions::KeyframePacing::Steps
                                                   : bench::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
+  const bool frameBudgetAuto = frameBudgetArg == "auto";
+  const double frameBudgetMs = frameBudgetAuto ? 0.0 : std::strtod(frameBudgetArg.c_str(), nullptr);
   wo.frameBudgetMs = frameBudgetMs;
+  wo.frameBudgetAuto = frameBudgetAuto;
+  wo.frameBudgetQuantile = frameBudgetQuantile;
+  wo.frameBudgetWindow = frameBudgetWindow;
   wo.staleAfter = staleAfter;
   wo.paceFrames = !noFramePacing;
   wo.pixelAge = pixelAge;
@@ -1457,12 +1495,15 @@ int main(int argc, char** argv) {
       s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
       num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
       s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
-  if (frameBudgetMs > 0)
+  if (frameBudgetAuto)
+    std::printf("  frame budget auto: p%.0f of the last %d in-between frames' work, median %.1f ms\n",
+                frameBudgetQuantile * 100, frameBudgetWindow, num(s["frame_budget_ms"]));
+  if (frameBudgetMs > 0 || frameBudgetAuto)
     std::printf(
         "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "
         "pixels median %.0f; presented interval %.2f ms median, p95/median %.2f (work %.2f); "
         "%d frames over budget\n",
-        frameBudgetMs, s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
+        num(s["frame_budget_ms"]), s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
         num(s["refresh_ms"]["median"]), num(s["stale_pixels"]["median"]),
         num(s["frame_interval_ms"]["median"]), num(s["frame_interval_ms_p95_over_median"]),
         num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());

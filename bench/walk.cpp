@@ -1,4 +1,5 @@
 #include "bench/walk.h"
+#include "bench/frame_budget.h"
 #include "bench/progress.h"
 
 #include <unistd.h>
@@ -170,7 +171,19 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   // Frame budget (WalkOptions::frameBudgetMs): the refresh render's cost model
   // is calibrated here, before the first frame (two scissored renders, each
   // timed on its second run: a tile at the centre and the whole image).
-  const bool budgetOn = opt.frameBudgetMs > 0;
+  const bool budgetOn = opt.frameBudgetMs > 0 || opt.frameBudgetAuto;
+  if (opt.frameBudgetAuto &&
+      (opt.frameBudgetWindow < 1 || !(opt.frameBudgetQuantile > 0 && opt.frameBudgetQuantile <= 1)))
+    return makeError("walk: automatic frame budget: expected window >= 1 and 0 < quantile <= 1, "
+                     "got window " + std::to_string(opt.frameBudgetWindow) + ", quantile " +
+                     std::to_string(opt.frameBudgetQuantile));
+  AutoFrameBudget autoBudget(std::max(1, opt.frameBudgetWindow),
+                             opt.frameBudgetQuantile > 0 && opt.frameBudgetQuantile <= 1
+                                 ? opt.frameBudgetQuantile
+                                 : 0.9);
+  // This frame's budget, ms (0 = none: no refresh, no pacing).
+  double budgetMs = opt.frameBudgetAuto ? 0.0 : opt.frameBudgetMs;
+  std::vector<double> budgetsUsed;  // per frame with a budget (auto)
   const bool trackAge = budgetOn || opt.pixelAge;
   constexpr int kTile = WalkOptions::kRefreshTilePx;
   RefreshCostModel refreshCost;
@@ -348,18 +361,17 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     }
     const double work = frameSw.ms();
     ms["frame"] = work;
-    if (budgetOn) {
-      if (work > opt.frameBudgetMs) {
+    if (budgetOn && budgetMs > 0) {
+      if (work > budgetMs) {
         ++budgetOverruns;
         budgetOverrunsInBetween += !keyframeFrame;
         // Within the budget before a refresh, over it after: the estimate missed.
-        budgetOverrunsByRefresh +=
-            workBeforeRefreshMs >= 0 && workBeforeRefreshMs <= opt.frameBudgetMs;
+        budgetOverrunsByRefresh += workBeforeRefreshMs >= 0 && workBeforeRefreshMs <= budgetMs;
       }
       if (opt.paceFrames)
         std::this_thread::sleep_until(
             frameStart + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                             std::chrono::duration<double, std::milli>(opt.frameBudgetMs)));
+                             std::chrono::duration<double, std::milli>(budgetMs)));
     }
     const double interval =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
@@ -385,6 +397,11 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     }
     // What a viewer waits for: keyframe acquisition (build or wait),
     // upload, warp, compose; not the reference or the metrics.
+    if (opt.frameBudgetAuto) {
+      budgetMs = autoBudget.budgetMs();
+      fj["budget_ms"] = budgetMs > 0 ? json(budgetMs) : json(nullptr);
+      if (budgetMs > 0) budgetsUsed.push_back(budgetMs);
+    }
     frameSw.restart();
     frameStart = std::chrono::steady_clock::now();
     workBeforeRefreshMs = -1;
@@ -538,7 +555,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
           long long refreshed = 0;
           json rects = json::array();
           for (int n = 0; n < WalkOptions::kMaxRefreshRects; ++n) {
-            const long long maxPx = refreshCost.maxPixels(opt.frameBudgetMs - frameSw.ms());
+            if (budgetMs <= 0) break;
+            const long long maxPx = refreshCost.maxPixels(budgetMs - frameSw.ms());
             keyframe::PixelRect r;
             if (maxPx < 1 || !gapfill::chooseRefreshRect(tileScores, cols, rows, kTile, cam.width,
                                                         cam.height, maxPx, tileOrder, &r))
@@ -589,6 +607,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       foregroundUncovered.push_back(fgUncovered);
       endFrameWork(ms, false);
       inBetweenFrameMs.push_back(ms["frame"].get<double>());
+      if (opt.frameBudgetAuto)  // the next frames' budget: this frame's work without its refresh
+        autoBudget.add(ms["frame"].get<double>() - (ms.contains("refresh") ? ms["refresh"].get<double>() : 0.0));
       fj["holes_before_fallback"] = frame.holeFractionBefore;
       fj["holes_after_fallback"] = frame.holeFractionAfter;
       holesBefore.push_back(frame.holeFractionBefore);
@@ -768,7 +788,16 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                                                                           : json(nullptr);
   summary["keyframe_worker_busy_ms"] = kfWorker ? json(kfWorker->workerBusyMs()) : json(nullptr);
   // Frame budget and pixel age (issue #8; WalkOptions::frameBudgetMs).
-  summary["frame_budget_ms"] = opt.frameBudgetMs;
+  // With the automatic budget: the median of the per-frame budgets.
+  summary["frame_budget_ms"] =
+      opt.frameBudgetAuto ? finiteOrNull(median(budgetsUsed)) : json(opt.frameBudgetMs);
+  summary["frame_budget_mode"] = opt.frameBudgetAuto ? "auto" : budgetOn ? "fixed" : "off";
+  summary["frame_budget_auto"] =
+      opt.frameBudgetAuto ? json{{"quantile", opt.frameBudgetQuantile},
+                                 {"window_frames", opt.frameBudgetWindow},
+                                 {"budget_ms", stats(budgetsUsed)},
+                                 {"frames_without_budget", frames - static_cast<int>(budgetsUsed.size())}}
+                          : json(nullptr);
   summary["frame_pacing"] = budgetOn && opt.paceFrames;
   summary["pixel_age"] = trackAge;
   summary["stale_after"] = budgetOn ? json(opt.staleAfter) : json(nullptr);

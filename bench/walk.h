@@ -100,6 +100,13 @@ struct WalkOptions {
   // With paceFrames the walk then sleeps until frameBudgetMs have passed since
   // the frame started, so frames are presented at a steady cadence.
   double frameBudgetMs = 0;
+  // Automatic budget (bench/frame_budget.h; frameBudgetMs is then unused):
+  // each frame's budget is the frameBudgetQuantile of the work (without the
+  // refresh) of the last frameBudgetWindow in-between frames; no budget (no
+  // refresh, no pacing) before the first in-between frame.
+  bool frameBudgetAuto = false;
+  double frameBudgetQuantile = 0.9;
+  int frameBudgetWindow = 30;
   int staleAfter = 2;  // frames carried over before a pixel counts for a refresh (>= 1)
   bool paceFrames = true;
   // Per-pixel age (gapfill/age.h) and the stale-pixel counts without a

@@ -31,6 +31,35 @@ import json,sys; f=[x for x in json.load(open('$r'))['frames'] if not x['is_keyf
 sys.exit(0 if f and all('stale_pixels' in x and 'refreshed_pixels' in x and 'max_age' in x for x in f) else 1)"
 check "stdout names the budget" grep -q "frame budget 40.0 ms" "$tmp/b.stdout"
 
+# --frame-budget-ms auto: each frame's budget is the quantile (nearest rank)
+# of the work without refresh of the last W in-between frames, recomputed here
+# from the report's own per-frame ms; none before the first in-between frame.
+"$hw" "${common[@]}" --frame-budget-ms auto --frame-budget-quantile 0.5 --frame-budget-window 4 \
+  --out "$tmp/auto" >"$tmp/auto.stdout" 2>"$tmp/auto.stderr"
+rc=$?; check "auto budget walk exits 0 ($(tail -2 "$tmp/auto.stderr"))" test $rc -eq 0
+r="$tmp/auto/report.json"
+check "auto budget: mode, quantile, window and median budget recorded" python3 -c "
+import json,sys; s=json.load(open('$r'))['summary']; a=s['frame_budget_auto']
+sys.exit(0 if s['frame_budget_mode'] == 'auto' and a['quantile'] == 0.5 and a['window_frames'] == 4
+         and a['frames_without_budget'] == 2 and s['frame_budget_ms'] == a['budget_ms']['median']
+         and s['frame_budget_ms'] > 0 else 1)"
+check "auto budget: each frame's budget is the median of the last 4 in-between works" python3 -c "
+import json,math,sys; fr=json.load(open('$r'))['frames']
+works=[]; bad=[]
+for f in fr:
+    b=f['budget_ms']
+    if not works:
+        ok = b is None
+    else:
+        w=sorted(works[-4:]); ok = b is not None and abs(b - w[math.ceil(0.5*len(w)) - 1]) < 1e-9
+    if not ok: bad.append((f['index'], b))
+    if not f['is_keyframe']: works.append(f['ms']['frame'] - f['ms'].get('refresh', 0))
+print(bad); sys.exit(0 if len(fr) == 13 and not bad else 1)"
+check "auto budget: paced to each frame's budget" python3 -c "
+import json,sys; fr=json.load(open('$r'))['frames']
+sys.exit(0 if all(f['ms']['interval'] >= f['budget_ms'] for f in fr if f['budget_ms']) else 1)"
+check "stdout names the auto budget" grep -q "frame budget auto: p50 of the last 4" "$tmp/auto.stdout"
+
 # --pixel-age without a budget: the default walk's frames.
 for v in default age; do
   extra=""; [ $v = age ] && extra="--pixel-age"
@@ -52,5 +81,9 @@ bad() {  # NAME REGEX ARGS...
 }
 bad "--frame-budget-ms -1" '--frame-budget-ms.*expected milliseconds from 0.*-1' --frame-budget-ms -1
 bad "--frame-budget-ms abc" '--frame-budget-ms.*expected milliseconds.*abc' --frame-budget-ms abc
+bad "--frame-budget-ms fastest" '--frame-budget-ms.*expected milliseconds.*or .auto.*fastest' --frame-budget-ms fastest
+bad "--frame-budget-quantile 0" '--frame-budget-quantile.*expected a quantile above 0 and at most 1.*0' --frame-budget-ms auto --frame-budget-quantile 0
+bad "--frame-budget-quantile 1.5" '--frame-budget-quantile.*expected a quantile above 0 and at most 1.*1.5' --frame-budget-ms auto --frame-budget-quantile 1.5
+bad "--frame-budget-window 0" '--frame-budget-window.*expected a whole number of frames from 1.*0' --frame-budget-ms auto --frame-budget-window 0
 bad "--stale-after 0" '--stale-after.*expected a whole number of frames from 1.*0' --frame-budget-ms 40 --stale-after 0
 finish

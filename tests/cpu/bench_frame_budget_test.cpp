@@ -1,0 +1,83 @@
+// AutoFrameBudget (walk --frame-budget-ms auto): nearest-rank quantile over a
+// sliding window of in-between frames' work.
+#include "bench/frame_budget.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace hw::bench {
+namespace {
+
+TEST(AutoFrameBudget, NoBudgetBeforeTheFirstSample) {
+  AutoFrameBudget b(30, 0.9);
+  EXPECT_EQ(b.budgetMs(), 0.0);
+  EXPECT_EQ(b.samples(), 0);
+}
+
+TEST(AutoFrameBudget, NearestRankQuantile) {
+  AutoFrameBudget b(10, 0.9);
+  for (int i = 10; i >= 1; --i) b.add(i);  // 1..10 in any order
+  EXPECT_EQ(b.samples(), 10);
+  EXPECT_EQ(b.budgetMs(), 9.0);  // ceil(0.9 * 10) = 9th smallest
+  AutoFrameBudget m(10, 0.5);
+  for (int i = 1; i <= 10; ++i) m.add(i);
+  EXPECT_EQ(m.budgetMs(), 5.0);
+  AutoFrameBudget top(10, 1.0);
+  for (int i = 1; i <= 10; ++i) top.add(i);
+  EXPECT_EQ(top.budgetMs(), 10.0);
+  AutoFrameBudget low(10, 0.01);
+  for (int i = 1; i <= 10; ++i) low.add(i);
+  EXPECT_EQ(low.budgetMs(), 1.0);
+}
+
+TEST(AutoFrameBudget, FewerSamplesThanTheWindow) {
+  AutoFrameBudget b(30, 0.9);
+  b.add(7);
+  EXPECT_EQ(b.budgetMs(), 7.0);
+  b.add(3);
+  EXPECT_EQ(b.budgetMs(), 7.0);  // ceil(1.8) = 2nd smallest of {3, 7}
+  b.add(5);
+  EXPECT_EQ(b.budgetMs(), 7.0);  // ceil(2.7) = 3rd of {3, 5, 7}
+}
+
+TEST(AutoFrameBudget, OnlyTheLastWindowCounts) {
+  AutoFrameBudget b(4, 1.0);
+  for (double w : {100.0, 1.0, 2.0, 3.0}) b.add(w);
+  EXPECT_EQ(b.budgetMs(), 100.0);
+  b.add(4.0);  // 100 leaves the window
+  EXPECT_EQ(b.samples(), 4);
+  EXPECT_EQ(b.budgetMs(), 4.0);
+  for (int i = 0; i < 100; ++i) b.add(2.0);
+  EXPECT_EQ(b.budgetMs(), 2.0);
+}
+
+TEST(AutoFrameBudget, IgnoresNonFiniteAndNegativeWork) {
+  AutoFrameBudget b(4, 1.0);
+  b.add(5.0);
+  b.add(std::nan(""));
+  b.add(std::numeric_limits<double>::infinity());
+  b.add(-1.0);
+  EXPECT_EQ(b.samples(), 1);
+  EXPECT_EQ(b.budgetMs(), 5.0);
+}
+
+TEST(AutoFrameBudget, BudgetDoesNotReorderTheWindow) {
+  // budgetMs() partitions a scratch copy: the sliding window must still drop
+  // the oldest sample, not whatever nth_element moved.
+  AutoFrameBudget b(3, 1.0);
+  b.add(9.0);
+  b.add(1.0);
+  b.add(5.0);
+  EXPECT_EQ(b.budgetMs(), 9.0);
+  b.add(2.0);  // drops 9
+  EXPECT_EQ(b.budgetMs(), 5.0);
+  b.add(3.0);  // drops 1
+  EXPECT_EQ(b.budgetMs(), 5.0);
+  b.add(4.0);  // drops 5
+  EXPECT_EQ(b.budgetMs(), 4.0);
+}
+
+}  // namespace
+}  // namespace hw::bench
