@@ -12,6 +12,8 @@ AutoFrameBudget::AutoFrameBudget(int window, double quantile) : quantile_(quanti
   HW_CHECK(quantile > 0 && quantile <= 1);
   ring_.assign(static_cast<std::size_t>(window), 0.0);
   scratch_.reserve(ring_.size());
+  const double need = quantile < 1 ? std::ceil(1.0 / (1.0 - quantile) - 1e-9) : 1e18;
+  minSamples_ = static_cast<int>(std::min<double>(window, std::max(1.0, need)));
 }
 
 void AutoFrameBudget::add(double workMs) {
@@ -22,7 +24,7 @@ void AutoFrameBudget::add(double workMs) {
 }
 
 double AutoFrameBudget::budgetMs() const {
-  if (count_ == 0) return 0.0;
+  if (count_ == 0 || count_ < static_cast<std::size_t>(minSamples_)) return 0.0;
   scratch_.assign(ring_.begin(), ring_.begin() + static_cast<std::ptrdiff_t>(count_));
   // Nearest rank: the ceil(q·n)-th smallest (1-based).
   const auto rank = static_cast<std::size_t>(

@@ -23,15 +23,22 @@ class AutoFrameBudget {
   void add(double workMs);
   // The budget for the next frame: the `quantile` of the samples held (the
   // last `window` added; nearest rank, the smallest sample with at least
-  // quantile × n samples at or below it). 0 when none has been added.
+  // quantile × n samples at or below it). 0 (no budget) until minSamples()
+  // have been added.
   double budgetMs() const;
   int samples() const { return static_cast<int>(count_); }
+  // A quantile q means something once one sample in 1/(1 − q) may lie above
+  // it: min(window, ⌈1/(1 − q)⌉) samples (10 at q = 0.9; the whole window at
+  // q = 1). Before that the nearest rank would be the largest sample, often a
+  // first frame slowed by cold GL state, and every frame would wait for it.
+  int minSamples() const { return minSamples_; }
 
  private:
   std::vector<double> ring_;
   mutable std::vector<double> scratch_;
   std::size_t next_ = 0, count_ = 0;
   double quantile_;
+  int minSamples_ = 1;
 };
 
 }  // namespace hw::bench

@@ -103,7 +103,7 @@ struct WalkOptions {
   // Automatic budget (bench/frame_budget.h; frameBudgetMs is then unused):
   // each frame's budget is the frameBudgetQuantile of the work (without the
   // refresh) of the last frameBudgetWindow in-between frames; no budget (no
-  // refresh, no pacing) before the first in-between frame.
+  // refresh, no pacing) until AutoFrameBudget::minSamples() are known.
   bool frameBudgetAuto = false;
   double frameBudgetQuantile = 0.9;
   int frameBudgetWindow = 30;

@@ -11,7 +11,7 @@ namespace hw::bench {
 namespace {
 
 TEST(AutoFrameBudget, NoBudgetBeforeTheFirstSample) {
-  AutoFrameBudget b(30, 0.9);
+  AutoFrameBudget b(1, 0.9);
   EXPECT_EQ(b.budgetMs(), 0.0);
   EXPECT_EQ(b.samples(), 0);
 }
@@ -32,14 +32,31 @@ TEST(AutoFrameBudget, NearestRankQuantile) {
   EXPECT_EQ(low.budgetMs(), 1.0);
 }
 
-TEST(AutoFrameBudget, FewerSamplesThanTheWindow) {
+TEST(AutoFrameBudget, NoBudgetUntilTheQuantileMeansSomething) {
   AutoFrameBudget b(30, 0.9);
+  EXPECT_EQ(b.minSamples(), 10);
+  b.add(100);  // a slow first frame
+  for (int i = 1; i <= 8; ++i) {
+    b.add(i);
+    EXPECT_EQ(b.budgetMs(), 0.0) << i;
+  }
+  b.add(9);  // ten samples: the 9th smallest, the slow first frame left out
+  EXPECT_EQ(b.budgetMs(), 9.0);
+  EXPECT_EQ(AutoFrameBudget(30, 0.5).minSamples(), 2);
+  EXPECT_EQ(AutoFrameBudget(4, 0.9).minSamples(), 4);   // the window is smaller
+  EXPECT_EQ(AutoFrameBudget(30, 1.0).minSamples(), 30);  // the max needs the window
+  EXPECT_EQ(AutoFrameBudget(30, 0.01).minSamples(), 2);
+}
+
+TEST(AutoFrameBudget, FewerSamplesThanTheWindow) {
+  AutoFrameBudget b(30, 0.6);  // min samples ceil(2.5) = 3
   b.add(7);
-  EXPECT_EQ(b.budgetMs(), 7.0);
   b.add(3);
-  EXPECT_EQ(b.budgetMs(), 7.0);  // ceil(1.8) = 2nd smallest of {3, 7}
+  EXPECT_EQ(b.budgetMs(), 0.0);
   b.add(5);
-  EXPECT_EQ(b.budgetMs(), 7.0);  // ceil(2.7) = 3rd of {3, 5, 7}
+  EXPECT_EQ(b.budgetMs(), 5.0);  // ceil(1.8) = 2nd of {3, 5, 7}
+  b.add(1);
+  EXPECT_EQ(b.budgetMs(), 5.0);  // ceil(2.4) = 3rd of {1, 3, 5, 7}
 }
 
 TEST(AutoFrameBudget, OnlyTheLastWindowCounts) {
@@ -54,7 +71,7 @@ TEST(AutoFrameBudget, OnlyTheLastWindowCounts) {
 }
 
 TEST(AutoFrameBudget, IgnoresNonFiniteAndNegativeWork) {
-  AutoFrameBudget b(4, 1.0);
+  AutoFrameBudget b(1, 1.0);
   b.add(5.0);
   b.add(std::nan(""));
   b.add(std::numeric_limits<double>::infinity());
