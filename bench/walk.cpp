@@ -1,5 +1,6 @@
 #include "bench/walk.h"
 #include "bench/frame_budget.h"
+#include "bench/plot.h"
 #include "bench/progress.h"
 
 #include <unistd.h>
@@ -353,6 +354,11 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   Stopwatch frameSw;
   std::chrono::steady_clock::time_point frameStart;
   std::vector<double> sliceMs;  // keyframe slices run at the end of each frame (Slices pacing)
+  // frame_times.png: work and presented interval per frame, keyframe frames
+  // apart, and each frame's budget.
+  int currentFrame = 0;
+  Series plotWork{"in-between work (ms.frame)"}, plotKeyWork{"keyframe frame work"},
+      plotInterval{"presented interval (ms.interval)"}, plotBudget{"budget"};
   auto endFrameWork = [&](json& ms, bool keyframeFrame) {
     if (kfWorker && opt.keyframePacing == WalkOptions::KeyframePacing::Slices) {
       const double slice = kfWorker->runSlice();  // part of the frame: the CPUs are the worker's now
@@ -379,10 +385,20 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     ms["pacing_wait"] = std::max(0.0, interval - work);
     ms["interval"] = interval;
     frameIntervalMs.push_back(interval);
+    Series& w = keyframeFrame ? plotKeyWork : plotWork;
+    w.x.push_back(currentFrame);
+    w.y.push_back(work);
+    plotInterval.x.push_back(currentFrame);
+    plotInterval.y.push_back(interval);
+    if (budgetOn && budgetMs > 0) {
+      plotBudget.x.push_back(currentFrame);
+      plotBudget.y.push_back(budgetMs);
+    }
     if (!keyframeFrame) inBetweenIntervalMs.push_back(interval);
   };
 
   for (int i = 0; i < frames; ++i) {
+    currentFrame = i;
     const Camera& cam = cams[static_cast<std::size_t>(i)];
     json fj;
     fj["index"] = i;
@@ -829,6 +845,28 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   WalkResult result;
   result.report = {{"frames", framesJson}, {"summary", summary}};
   if (writing) {
+    {
+      PlotOptions po;
+      po.title = "Frame times: " + sceneLabel + (asyncKf ? ", async keyframes" : "") +
+                 (opt.frameBudgetAuto ? ", auto budget"
+                  : budgetOn          ? ", budget " + std::to_string(opt.frameBudgetMs) + " ms"
+                                      : "");
+      po.xLabel = "frame";
+      po.yLabel = "ms (log)";
+      po.logY = true;
+      po.width = 1000;
+      po.height = 480;
+      plotWork.markers = false;
+      plotInterval.lines = false;
+      plotInterval.marker = Marker::kSquare;
+      plotKeyWork.lines = false;
+      plotKeyWork.marker = Marker::kDiamond;
+      plotBudget.markers = false;
+      std::vector<Series> series{plotWork, plotKeyWork};
+      if (budgetOn && opt.paceFrames) series.push_back(plotInterval);
+      if (budgetOn) series.push_back(plotBudget);
+      HW_TRY(writePlot(opt.outDir + "/frame_times.png", series, po));
+    }
     for (std::size_t s = 0; s < strips.size(); ++s)
       HW_TRY(writePng(opt.outDir + "/strip_" + std::to_string(stripInfo[s]["frame"].get<int>()) +
                           ".png",

@@ -58,6 +58,10 @@ print(bad); sys.exit(0 if len(fr) == 13 and not bad else 1)"
 check "auto budget: paced to each frame's budget" python3 -c "
 import json,sys; fr=json.load(open('$r'))['frames']
 sys.exit(0 if all(f['ms']['interval'] >= f['budget_ms'] for f in fr if f['budget_ms']) else 1)"
+check "frame_times.png written (a PNG of more than 5 kB)" python3 -c "
+import sys
+d=open('$tmp/auto/frame_times.png','rb').read()
+sys.exit(0 if d[:8]==b'\\x89PNG\\r\\n\\x1a\\n' and len(d) > 5000 else 1)"
 check "stdout names the auto budget" grep -q "frame budget auto: p50 of the last 4" "$tmp/auto.stdout"
 
 # --pixel-age without a budget: the default walk's frames.
