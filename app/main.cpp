@@ -821,11 +821,13 @@ int main(int argc, char** argv) {
                     "context (a hidden window): the viewer requests the next keyframe and warps "
                     "the ones it has until it is ready instead of rendering it in the frame "
                     "(keyframes are identical; when one arrives changes). Lost (no keyframe "
-                    "within reach) it still renders one in the frame; baked --keyframes are read "
-                    "as without it");
+                    "within reach) it waits for the one in flight if that is within reach, else "
+                    "renders one in the frame; baked --keyframes are read as without it. "
+                    "With s s, the statistics show keyframe stalls and waits");
   viewCmd->add_option("--keyframe-pacing", viewPacing,
                       "With --async-keyframes, as for walk: time (per frame the worker may take "
-                      "budget-scale x last build ms / the path's keyframe_every of wall time), "
+                      "budget-scale x last build ms / (keyframe_every / 2 of the path, the "
+                      "viewer's keyframe interval in frames) of wall time), "
                       "slices (the same budget, run after each frame is shown, counted in its "
                       "time), steps (--keyframe-steps-per-frame steps per frame) or none (as fast "
                       "as it can)")

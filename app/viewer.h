@@ -72,15 +72,17 @@ struct ViewerOptions {
   // when the viewer moves away from its newest keyframe it requests the next
   // one (the same camera the synchronous viewer would render) and keeps
   // warping the two it has until the worker hands it over; it never waits
-  // for it. Lost (no keyframe within reach) it still renders one in the
+  // for it unless lost (no keyframe within reach): then it waits for the
+  // one in flight if that one is within reach, else renders one in the
   // frame. The first keyframe comes from the worker, waited for (loading).
   // Baked keyframes (keyframeDb) are read as without it.
   bool asyncKeyframes = false;
   // How the worker spreads a keyframe over the frames, as `walk
   // --keyframe-pacing` (AsyncKeyframeOptions): Time and Slices allow
-  // budgetScale x (last build ms) / (the play/default path's keyframe_every)
-  // of worker time per frame; Steps allows stepsPerFrame steps; None runs
-  // flat out. Slices run at the end of each frame, counted in its time.
+  // budgetScale x (last build ms) / (half the play/default path's
+  // keyframe_every: the viewer's keyframe interval) of worker time per
+  // frame; Steps allows stepsPerFrame steps; None runs flat out. Slices run
+  // after each frame is shown, counted in its time.
   enum class KeyframePacing { None, Steps, Time, Slices };
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
