@@ -500,7 +500,8 @@ Status Viewer::setUp() {
   // counting too: 22 over the 120 frames of the indoor path, keyframe_every
   // 10), so the worker's pacing spreads one over that many frames.
   if (opt_.asyncKeyframes) HW_TRY(startWorker(std::max(1.0, 0.5 * path.keyframeEvery)));
-  if (opt_.exitAfterFrames > 0) records_.reserve(static_cast<std::size_t>(opt_.exitAfterFrames));
+  // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
+  records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
   cam_ = play_ ? sized(playCams_.front()) : cameraFromPose();
   playFrame_ = play_ ? 0 : -1;

@@ -179,11 +179,11 @@ TEST(ViewerAsync, PlaysWithoutWaitingAndWorkerKeyframesAreBitIdentical) {
   for (const Rgba8& p : async.screenshot.pixels()) same += (p == first);
   EXPECT_LT(same, async.screenshot.size() / 2);
   // Close to the synchronous frame: the same camera warped from the same or
-  // older keyframes of the same path (measured: identical or ~30+ dB).
+  // older keyframes of the same path (measured 33–99 dB here; 31.5 dB at 800×600 after 60 frames).
   const double p = psnrCapped(async.screenshot, sync.screenshot);
   std::printf("async vs sync last frame: PSNR %.2f dB, %zu pixels differ, %d worker keyframes\n", p,
               differingPixels(async.screenshot, sync.screenshot), async.workerKeyframes);
-  EXPECT_GE(p, 24.0);
+  EXPECT_GE(p, 22.0);
   if (::testing::Test::HasFailure())
     (void)writePng(::testing::TempDir() + "viewer_async_diff.png",
                    diffImage(async.screenshot, sync.screenshot, 4));
