@@ -1267,7 +1267,7 @@ void Viewer::drawHud() {
             s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
             s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
             lastKeyframe_.fromDb       ? "read from the database"
-            : lastKeyframe_.fromWorker ? "worker render"
+            : lastKeyframe_.fromWorker ? "worker render (wall ms, paced)"
                                        : "render",
             lastKeyframe_.renderMs,
             lastKeyframe_.lodMs, lastKeyframe_.uploadMs, lastKeyframe_.quads, keyframesBuilt_,
