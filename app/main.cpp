@@ -848,6 +848,43 @@ int main(int argc, char** argv) {
                       "Warp keyframes baked by 'hybridwalk bake' from this scene and path instead of "
                       "rendering them while near the baked path (with --play, exactly the walk's "
                       "keyframe pairs); the window takes the database's size");
+  std::string viewPacing = "time";
+  viewCmd->add_flag("--async-keyframes", vo.asyncKeyframes,
+                    "Render and mesh keyframes ahead on a worker thread with a second OpenGL "
+                    "context (a hidden window): the viewer requests the next keyframe and warps "
+                    "the ones it has until it is ready instead of rendering it in the frame "
+                    "(keyframes are identical; when one arrives changes). Lost (no keyframe "
+                    "within reach) it waits for the one in flight if that is within reach, else "
+                    "renders one in the frame; baked --keyframes are read as without it. "
+                    "With s s, the statistics show keyframe stalls and waits");
+  viewCmd->add_option("--keyframe-pacing", viewPacing,
+                      "With --async-keyframes, as for walk: time (per frame the worker may take "
+                      "budget-scale x last build ms / (keyframe_every / 2 of the path, the "
+                      "viewer's keyframe interval in frames) of wall time), "
+                      "slices (the same budget, run after each frame is shown, counted in its "
+                      "time), steps (--keyframe-steps-per-frame steps per frame) or none (as fast "
+                      "as it can)")
+      ->check(CLI::IsMember({"time", "slices", "steps", "none"}))
+      ->capture_default_str();
+  viewCmd->add_option("--keyframe-budget-scale", vo.keyframeBudgetScale,
+                      "With --keyframe-pacing time or slices: the worker's time per frame as a "
+                      "multiple of its even share (> 1 lets it get ahead)")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  viewCmd->add_option("--keyframe-steps-per-frame", vo.keyframeStepsPerFrame,
+                      "With --keyframe-pacing steps: worker steps (a flushed piece of the render, "
+                      "the readback, a mesh-build step) per frame")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  viewCmd->add_option("--keyframe-flush-triangles", vo.keyframeFlushTriangles,
+                      "With --async-keyframes: the worker flushes its keyframe render after about "
+                      "this many triangles (0 = one flush)")
+      ->capture_default_str();
+  viewCmd->add_option("--frame-stats", vo.frameStatsPath,
+                      "Write one CSV row per frame at exit: ms (time since the previous frame "
+                      "ended), keyframe ms and events (rendered in the frame = a stall, read, "
+                      "taken from the worker, requested, waited for); the exit also prints the "
+                      "frame ms median / p95 / max");
 
   // compare
   std::string cmpA, cmpB, cmpDiff;
@@ -1036,6 +1073,11 @@ int main(int argc, char** argv) {
       vo.playPath = viewC.path;
     }
     vo.sceneLabel = viewC.scene;
+    using VP = app::ViewerOptions::KeyframePacing;
+    vo.keyframePacing = viewPacing == "time"     ? VP::Time
+                        : viewPacing == "slices" ? VP::Slices
+                        : viewPacing == "steps"  ? VP::Steps
+                                                 : VP::None;
     vo.startHybrid = !viewGeometry;
     vo.hud = !viewNoHud;
     auto s = scenes::loadScene(viewC.scene);

@@ -17,12 +17,15 @@
 //   ours: h help, g hybrid/geometry, o the foreground keyframe's quad overlay
 //     (Plate I-A) in a corner, m hole mask (red: pixels neither keyframe
 //     covers), p PSNR of the current view against the geometry reference.
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <string>
 
 #include "core/camera.h"
+#include "keyframe/keyframe.h"
 #include "keyframe/keyframe_db.h"
+#include "keyframe/quad_mesh.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -64,6 +67,38 @@ struct ViewerOptions {
   // without a database. The caller checks that the database was baked from
   // this scene and the play/default path, at the window's size.
   std::shared_ptr<const keyframe::KeyframeDb> keyframeDb;
+  // Keyframes rendered and meshed on a worker thread (`view --async-keyframes`,
+  // keyframe/gl/async_keyframes.h) with its own context in a hidden window:
+  // when the viewer moves away from its newest keyframe it requests the next
+  // one (the same camera the synchronous viewer would render) and keeps
+  // warping the two it has until the worker hands it over; it never waits
+  // for it unless lost (no keyframe within reach): then it waits for the
+  // one in flight if that one is within reach, else renders one in the
+  // frame. The first keyframe comes from the worker, waited for (loading).
+  // Baked keyframes (keyframeDb) are read as without it.
+  bool asyncKeyframes = false;
+  // How the worker spreads a keyframe over the frames, as `walk
+  // --keyframe-pacing` (AsyncKeyframeOptions): Time and Slices allow
+  // budgetScale x (last build ms) / (half the play/default path's
+  // keyframe_every: the viewer's keyframe interval) of worker time per
+  // frame; Steps allows stepsPerFrame steps; None runs flat out. Slices run
+  // after each frame is shown, counted in its time.
+  enum class KeyframePacing { None, Steps, Time, Slices };
+  KeyframePacing keyframePacing = KeyframePacing::Time;
+  double keyframeBudgetScale = 2.0;
+  int keyframeStepsPerFrame = 2;
+  std::size_t keyframeFlushTriangles = 8192;  // AsyncKeyframeOptions::flushEveryTriangles
+  // Test hook: each worker keyframe is taken (waited for) in the frame that
+  // requests it, so keyframes and frames are the synchronous viewer's.
+  bool asyncLockstep = false;
+  // Written at exit if set: one CSV row per frame (frame ms, keyframe
+  // events: rendered in the frame, read, taken from the worker, requested,
+  // waited for), for median / p95 of the frame time.
+  std::string frameStatsPath;
+  // Test hook: called with the window's context current for every keyframe
+  // put into a slot except baked ones (fromWorker: built by the worker).
+  std::function<void(const keyframe::Keyframe&, const keyframe::QuadMesh&, bool fromWorker)>
+      onKeyframe;
   // Test hook: called with the window's GL context current, after the last
   // frame and before the window closes, with that frame's camera (whose size
   // is the window's framebuffer size).
@@ -74,7 +109,8 @@ struct ViewerOptions {
 // starting and home camera is the first of the play path (if given) or of
 // `defaultPath`; its fov and near/far planes are used throughout. Returns 0,
 // or prints "hybridwalk: error: ..." to stderr and returns 1 (no display, GL
-// failure, unreadable path, unwritable screenshot).
+// failure, no context for the keyframe worker, unreadable path, unwritable
+// screenshot or statistics file).
 int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
               const ViewerOptions& options);
 

@@ -2,7 +2,9 @@
 // from two keyframes kept around the viewer (Zheng et al. 1999 §2), HUD.
 // Everything renders in the window's own context: the geometry renderer and
 // the warper draw into their FBOs, the composed frame is uploaded into a
-// texture and drawn with one full-screen triangle.
+// texture and drawn with one full-screen triangle. With --async-keyframes a
+// worker thread renders and meshes keyframes in a hidden window's context
+// (keyframe/gl/async_keyframes.h) and the frame only uploads what it hands over.
 #include "app/viewer.h"
 #include "app/fly_pose.h"
 
@@ -16,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/file_io.h"
@@ -26,6 +29,7 @@
 #include "core/timer.h"
 #include "gapfill/compose.h"
 #include "keyframe/geometry_renderer.h"
+#include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 #include "keyframe/keyframe_db.h"
 #include "keyframe/lod_builder.h"
@@ -158,6 +162,7 @@ struct Slot {
 
 struct KeyframeStats {
   bool fromDb = false;  // read from the keyframe database (renderMs = read ms)
+  bool fromWorker = false;  // built by the keyframe worker (its render and LOD ms)
   double renderMs = 0, lodMs = 0, uploadMs = 0;
   int quads = 0;
 };
@@ -170,10 +175,25 @@ struct FrameStats {
   bool backgroundSkipped = false;  // the foreground covered every pixel
   double geometryMs = 0;
   std::size_t trianglesDrawn = 0;
-  double keyframeMs = 0;  // keyframe build or read during this frame (0 if none)
+  double keyframeMs = 0;  // keyframe build, read or worker hand-over during this frame (0 if none)
+  bool workerKeyframe = false;  // a keyframe from the worker was put into a slot
+  bool requestedKeyframe = false;  // one was requested from the worker
+  bool waitedForKeyframe = false;  // one was wanted and the worker's was not ready yet
+  bool stalledOnWorker = false;  // lost: the frame waited for the worker's keyframe
   double warpAMs = 0, warpBMs = 0, composeMs = 0;
   int quadsA = 0, quadsB = 0, layers = 0;
   double holesBefore = 0, holesAfter = 0;
+};
+
+// One row of ViewerOptions::frameStatsPath.
+struct FrameRecord {
+  long frame = 0;
+  int playFrame = -1;
+  double ms = 0;  // from the end of the previous frame to the end of this one
+  double keyframeMs = 0;
+  bool built = false, read = false, worker = false, requested = false, waited = false,
+       stalled = false;
+  int layers = 0;
 };
 
 class Viewer {
@@ -181,7 +201,10 @@ class Viewer {
   Viewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
          const ViewerOptions& options)
       : scene_(scene), defaultPath_(defaultPath), opt_(options) {}
-  ~Viewer() { releaseGl(); }
+  ~Viewer() {
+    stopWorker();
+    releaseGl();
+  }
   Viewer(const Viewer&) = delete;
   Viewer& operator=(const Viewer&) = delete;
 
@@ -207,6 +230,12 @@ class Viewer {
   Status renderFrame();
   Status renderHybrid(FrameStats& st);
   Status buildKeyframe(Slot& slot, const Camera& cam);
+  Status startWorker(double framesPerKeyframe);
+  void stopWorker();
+  void requestFromWorker(const Camera& cam);
+  Status takeFromWorker(FrameStats& st, bool wait);
+  Status writeFrameStats() const;
+  void printFrameSummary() const;
   Status readKeyframe(Slot& slot, int frame);
   Status finishSlot(Slot& slot);
   Status liveKeyframes(FrameStats& st, int& a, int& b);
@@ -229,6 +258,23 @@ class Viewer {
 
   // Declared first, destroyed last: every GL object below needs it.
   std::unique_ptr<gl::WindowContext> ctx_;
+  // Keyframe worker (ViewerOptions::asyncKeyframes) and its hidden window;
+  // stopWorker() joins the worker (which lets go of the window's context)
+  // before the window is destroyed, on this thread.
+  std::unique_ptr<gl::WindowContext> workerWindow_;
+  std::unique_ptr<keyframe::AsyncKeyframes> worker_;
+  std::mutex workerCamMutex_;
+  std::array<Camera, 8> workerCams_;  // camera of request id, at id % 8 (≤ 2 outstanding)
+  int nextRequestId_ = 0;
+  int pendingId_ = -1;  // requested, not taken yet
+  Camera pendingCam_;
+  long pendingSinceFrame_ = 0;
+  double pendingSinceMs_ = 0;
+  bool workerWarm_ = false;  // its first keyframe was taken (pacing has a build time)
+  long keyframesFromWorker_ = 0, keyframesDiscarded_ = 0, keyframeStalls_ = 0, waitFrames_ = 0;
+  long lastLatencyFrames_ = 0;
+  double lastLatencyMs_ = 0, maxStallMs_ = 0;
+  std::vector<FrameRecord> records_;
   GLFWwindow* win_ = nullptr;
   InputQueue input_;
   std::unique_ptr<keyframe::GeometryRenderer> renderer_;
@@ -291,6 +337,7 @@ class Viewer {
   char psnrText_[128] = {};
   double psnrUntil_ = 0;
   double frameMsSmoothed_ = 0;
+  char keyframeLine_[256] = {};
   long keyframesBuilt_ = 0;
   long keyframesRead_ = 0;
   long frameIndex_ = 0;
@@ -448,6 +495,13 @@ Status Viewer::setUp() {
   int fw = 0, fh = 0;
   glfwGetFramebufferSize(win_, &fw, &fh);
   HW_TRY(resize(fw, fh));
+  // The viewer makes a keyframe about every half of the path's keyframe
+  // spacing (one 1 unit ahead each time it passes the newest by 0.25, turns
+  // counting too: 22 over the 120 frames of the indoor path, keyframe_every
+  // 10), so the worker's pacing spreads one over that many frames.
+  if (opt_.asyncKeyframes) HW_TRY(startWorker(std::max(1.0, 0.5 * path.keyframeEvery)));
+  // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
+  records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
   cam_ = play_ ? sized(playCams_.front()) : cameraFromPose();
   playFrame_ = play_ ? 0 : -1;
@@ -460,7 +514,107 @@ Status Viewer::setUp() {
   if (opt_.keyframeDb)
     std::printf("hybridwalk view: %zu baked keyframes from %s (used near the baked path)\n",
                 dbFrames_.size(), opt_.keyframeDb->dir().c_str());
+  if (worker_)
+    std::printf("hybridwalk view: keyframes rendered ahead on a worker thread (%s, hidden window)\n",
+                worker_->glRenderer().c_str());
   std::fflush(stdout);
+  return {};
+}
+
+Status Viewer::startWorker(double framesPerKeyframe) {
+  auto second = gl::createSecondWindowContext(*ctx_);
+  if (!second)
+    return makeError("keyframe worker (--async-keyframes): " + second.error().message);
+  workerWindow_ = std::move(*second);
+  keyframe::AsyncKeyframeOptions a;
+  a.mesh = keyframe::MeshSpec{keyframe::MeshMethod::Lod, lodOptions_, 8};
+  a.maxQueued = 2;  // one in flight, and a lost frame's
+  a.flushEveryTriangles = opt_.keyframeFlushTriangles;
+  using P = ViewerOptions::KeyframePacing;
+  if (opt_.keyframePacing == P::Steps) a.stepsPerFrame = std::max(1, opt_.keyframeStepsPerFrame);
+  if (opt_.keyframePacing == P::Time || opt_.keyframePacing == P::Slices) {
+    a.framesPerKeyframe = framesPerKeyframe;
+    a.budgetScale = opt_.keyframeBudgetScale;
+    a.slices = opt_.keyframePacing == P::Slices;
+  }
+  gl::WindowContext* hidden = workerWindow_.get();
+  a.makeContext = [hidden] { return gl::attachWindowContext(*hidden); };
+  auto w = keyframe::AsyncKeyframes::create(
+      scene_,
+      [this](int id) {
+        std::lock_guard lock(workerCamMutex_);
+        return workerCams_[static_cast<std::size_t>(id) % workerCams_.size()];
+      },
+      a);
+  if (!w) {
+    workerWindow_.reset();  // the worker has exited and let go of it
+    return makeError(w.error().message + " (--async-keyframes)");
+  }
+  worker_ = std::move(*w);
+  return {};
+}
+
+void Viewer::stopWorker() {
+  worker_.reset();        // joins; the worker detaches the hidden window's context
+  workerWindow_.reset();  // destroyed on this (the main) thread, as GLFW requires
+  if (ctx_) ctx_->makeCurrent();
+}
+
+void Viewer::requestFromWorker(const Camera& cam) {
+  const int id = nextRequestId_;
+  {
+    std::lock_guard lock(workerCamMutex_);
+    workerCams_[static_cast<std::size_t>(id) % workerCams_.size()] = cam;
+  }
+  if (!worker_->request(id)) return;  // full (a lost frame's is still queued): next frame
+  ++nextRequestId_;
+  pendingId_ = id;
+  pendingCam_ = cam;
+  pendingSinceFrame_ = frameIndex_;
+  pendingSinceMs_ = clock_.ms();
+}
+
+// The pending keyframe into the slot it replaces: an empty one, else the one
+// farther from the viewer (the synchronous viewer's choice at request time).
+// Without `wait` only when it is ready; a keyframe no longer within reach
+// (or of another window size) is dropped.
+Status Viewer::takeFromWorker(FrameStats& st, bool wait) {
+  if (pendingId_ < 0 || (!wait && !worker_->ready(pendingId_))) return {};
+  Stopwatch kt;
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waitedMs = 0;
+  const int id = pendingId_;
+  pendingId_ = -1;
+  HW_TRY(worker_->take(id, &e, &waitedMs));
+  lastLatencyFrames_ = frameIndex_ - pendingSinceFrame_;
+  lastLatencyMs_ = clock_.ms() - pendingSinceMs_;
+  const Camera& c = e->keyframe.camera;
+  if (c.width != width_ || c.height != height_ || (!wait && poseDistance(c, cam_) >= kUseless)) {
+    ++keyframesDiscarded_;
+    worker_->recycle(std::move(e));
+    return {};
+  }
+  int target = 0;
+  if (slots_[0].valid && slots_[1].valid)
+    target = poseDistance(slots_[0].kf.camera, cam_) <= poseDistance(slots_[1].kf.camera, cam_) ? 1 : 0;
+  else if (slots_[0].valid)
+    target = 1;
+  Slot& slot = slots_[static_cast<std::size_t>(target)];
+  slot.valid = false;
+  std::swap(slot.kf, e->keyframe);
+  std::swap(slot.mesh, e->mesh);
+  lastKeyframe_.fromDb = false;
+  lastKeyframe_.fromWorker = true;
+  lastKeyframe_.renderMs = e->renderMs;
+  lastKeyframe_.lodMs = slot.mesh.stats.deltaMs + slot.mesh.stats.subdivideMs + slot.mesh.stats.cornersMs;
+  worker_->recycle(std::move(e));  // the slot's old buffers, for a later build
+  slot.dbFrame = -1;
+  HW_TRY(finishSlot(slot));
+  ++keyframesFromWorker_;
+  workerWarm_ = true;
+  st.workerKeyframe = true;
+  st.keyframeMs += kt.ms();
+  if (opt_.onKeyframe) opt_.onKeyframe(slot.kf, slot.mesh, true);
   return {};
 }
 
@@ -767,9 +921,11 @@ Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
   lastKeyframe_.renderMs = sw.lap();
   HW_TRY(lod_.build(slot.kf, lodOptions_, &slot.mesh));
   lastKeyframe_.lodMs = sw.lap();
+  lastKeyframe_.fromWorker = false;
   slot.dbFrame = -1;
   HW_TRY(finishSlot(slot));
   ++keyframesBuilt_;
+  if (opt_.onKeyframe) opt_.onKeyframe(slot.kf, slot.mesh, false);
   return {};
 }
 
@@ -778,6 +934,7 @@ Status Viewer::readKeyframe(Slot& slot, int frame) {
   slot.valid = false;
   HW_TRY(dbSource_(frame, dbScratch_));
   lastKeyframe_.fromDb = true;
+  lastKeyframe_.fromWorker = false;
   lastKeyframe_.renderMs = sw.lap();  // wait + read + checksum + decode
   lastKeyframe_.lodMs = 0;
   std::swap(slot.kf, dbScratch_.keyframe);
@@ -875,8 +1032,11 @@ Status Viewer::bakedKeyframes(FrameStats& st, int& a, int& b, bool& used) {
 // Keyframes rendered by the viewer itself: keep two, the last one and one
 // rendered ahead along the motion once the viewer has passed the newest;
 // re-render where the viewer stands when no keyframe is close (first frame,
-// jumps, turns the prediction missed).
+// jumps, turns the prediction missed). With the worker the keyframe ahead is
+// requested instead, and put in when it is ready (until then the two older
+// ones are warped); only a lost viewer renders one in the frame.
 Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
+  if (worker_) HW_TRY(takeFromWorker(st, /*wait=*/false));
   int nearest = -1, newest = -1, useful = 0;
   double sNearest = 1e300;
   std::array<double, 2> s{1e300, 1e300};
@@ -896,14 +1056,33 @@ Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
   Stopwatch kt;
   if (nearest < 0 || sNearest > kLost) {
     const int target = nearest < 0 ? 0 : 1 - nearest;
-    HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(target)], cam_));
-    st.builtKeyframe = true;
+    // Loading: the first keyframe comes from the worker, waited for (the
+    // walk's warm-up), so its pacing knows what a keyframe costs.
+    if (worker_ && !workerWarm_ && pendingId_ < 0) requestFromWorker(cam_);
+    if (worker_ && pendingId_ >= 0 && poseDistance(pendingCam_, cam_) <= kLost) {
+      // The keyframe in flight is within reach: wait for the rest of it
+      // (which lifts the worker's pacing) rather than render another.
+      HW_TRY(takeFromWorker(st, /*wait=*/true));
+      st.stalledOnWorker = st.workerKeyframe;
+    }
+    if (!st.workerKeyframe) {
+      HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(target)], cam_));
+      st.builtKeyframe = true;
+    }
   } else if (moving_ &&
              (useful < 2 || (nearest == newest && sNewest > kPassedNewest && recedingFromNewest))) {
     const Camera ahead = aheadCamera();
-    if (poseDistance(ahead, cam_) > kPassedNewest) {
-      HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(1 - nearest)], ahead));
-      st.builtKeyframe = true;
+    if (worker_ && pendingId_ >= 0) {
+      st.waitedForKeyframe = true;  // warp the two we have meanwhile
+    } else if (poseDistance(ahead, cam_) > kPassedNewest) {
+      if (worker_) {
+        requestFromWorker(ahead);
+        st.requestedKeyframe = pendingId_ >= 0;
+        if (opt_.asyncLockstep) HW_TRY(takeFromWorker(st, /*wait=*/true));
+      } else {
+        HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(1 - nearest)], ahead));
+        st.builtKeyframe = true;
+      }
     }
   }
   if (st.builtKeyframe) st.keyframeMs = kt.ms();
@@ -1000,6 +1179,13 @@ Status Viewer::renderFrame() {
     st.trianglesDrawn = rs.trianglesDrawn;
   }
   stats_ = st;
+  // Stalls: frames that rendered, read or waited for a keyframe; not the
+  // first, the load (as in the frame-time summary).
+  if (frameIndex_ > 0 && (st.builtKeyframe || st.readKeyframe || st.stalledOnWorker)) {
+    ++keyframeStalls_;
+    maxStallMs_ = std::max(maxStallMs_, st.keyframeMs);
+  }
+  waitFrames_ += st.waitedForKeyframe;
   return {};
 }
 
@@ -1046,6 +1232,21 @@ void Viewer::drawHud() {
   float y = 6;
   const float lineH = 12;
   if (statsLevel_ >= 1) {
+    // Keyframe stalls (rendered or read in the frame, which waited for it)
+    // and, with the worker, frames that warped older keyframes while the
+    // next one was not ready.
+    if (worker_) {
+      std::snprintf(keyframeLine_, sizeof keyframeLine_,
+                    "keyframes async: %ld from the worker%s, last ready after %ld frames (%.0f ms); "
+                    "%ld stalls (max %.1f ms), %ld frames waited%s",
+                    keyframesFromWorker_, pendingId_ >= 0 ? " (one in flight)" : "",
+                    lastLatencyFrames_, lastLatencyMs_, keyframeStalls_, maxStallMs_, waitFrames_,
+                    stats_.waitedForKeyframe ? " (waiting)" : "");
+    } else {
+      std::snprintf(keyframeLine_, sizeof keyframeLine_,
+                    "keyframes in the frame: %ld stalls (max %.1f ms)", keyframeStalls_,
+                    maxStallMs_);
+    }
     const double fps = frameMsSmoothed_ > 0 ? 1000.0 / frameMsSmoothed_ : 0;
     int n =
         std::snprintf(hudText_, sizeof hudText_, "%s  %.1f fps (%.1f ms)  speed %.2f units/s%s%s",
@@ -1061,14 +1262,17 @@ void Viewer::drawHud() {
             "\nwarp fg %.1f ms  bg + readback %.1f ms%s  compose %.1f ms%s\n"
             "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
             "last keyframe: %s %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built, %ld read%s\n"
-            "tau %g  keyframe every %.2f units / %.0f deg",
+            "tau %g  keyframe every %.2f units / %.0f deg\n%s",
             s.warpAMs, s.warpBMs, s.backgroundSkipped ? " (bg skipped)" : "", s.composeMs,
             s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
             s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
-            lastKeyframe_.fromDb ? "read from the database" : "render", lastKeyframe_.renderMs,
+            lastKeyframe_.fromDb       ? "read from the database"
+            : lastKeyframe_.fromWorker ? "worker render (wall ms, paced)"
+                                       : "render",
+            lastKeyframe_.renderMs,
             lastKeyframe_.lodMs, lastKeyframe_.uploadMs, lastKeyframe_.quads, keyframesBuilt_,
             keyframesRead_, s.builtKeyframe || s.readKeyframe ? " (one this frame)" : "",
-            opt_.tau, kfDistance_, kfAngle_ * 180 / kPi);
+            opt_.tau, kfDistance_, kfAngle_ * 180 / kPi, keyframeLine_);
       } else {
         std::snprintf(p, room, "\ngeometry %.1f ms  %zu of %zu triangles drawn", s.geometryMs,
                       s.trianglesDrawn, scene_.triangleCount());
@@ -1219,6 +1423,7 @@ Status Viewer::run() {
     if (fw != width_ || fh != height_) continue;  // full-screen toggle: resize next frame
 
     updateCamera(dt);
+    if (worker_) worker_->frameTick();  // pacing: a new frame's share of worker time
     HW_TRY(renderFrame());
     if (psnrRequested_) {
       psnrRequested_ = false;
@@ -1239,10 +1444,27 @@ Status Viewer::run() {
       else
         message("screenshot failed: " + s.error().message);
     }
+    FrameRecord rec;
+    rec.frame = frameIndex_;
+    rec.playFrame = playFrame_;
+    rec.keyframeMs = stats_.keyframeMs;
+    rec.built = stats_.builtKeyframe;
+    rec.read = stats_.readKeyframe;
+    rec.worker = stats_.workerKeyframe;
+    rec.requested = stats_.requestedKeyframe;
+    rec.waited = stats_.waitedForKeyframe;
+    rec.stalled = stats_.stalledOnWorker;
+    rec.layers = stats_.hybrid ? stats_.layers : -1;
     ++frameIndex_;
     const bool last = opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames;
-    if (last) break;  // the back buffer still holds this frame for the exit screenshot
+    if (last) {
+      rec.ms = frameClock.ms();
+      records_.push_back(rec);
+      break;  // the back buffer still holds this frame for the exit screenshot
+    }
     ctx_->swapBuffers();
+    // Slice pacing: the worker's share runs now, while this frame waits.
+    if (worker_) worker_->runSlice();
     std::swap(previous_, frame_);
     havePrevious_ = true;
     if (frame_.colour.width() != width_ || frame_.colour.height() != height_) {
@@ -1252,6 +1474,8 @@ Status Viewer::run() {
     }
     dt = frameClock.lap() / 1000.0;
     const double ms = dt * 1000.0;
+    rec.ms = ms;
+    records_.push_back(rec);
     frameMsSmoothed_ = frameMsSmoothed_ > 0 ? 0.9 * frameMsSmoothed_ + 0.1 * ms : ms;
   }
   if (frameIndex_ > 0) {
@@ -1273,8 +1497,47 @@ Status Viewer::run() {
               : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
               : stats_.layers == 2 ? "hybrid, two keyframes warped"
                                    : "hybrid, one keyframe warped");
+  printFrameSummary();
+  if (!opt_.frameStatsPath.empty()) {
+    HW_TRY(writeFrameStats());
+    std::printf("frame statistics saved to %s\n", opt_.frameStatsPath.c_str());
+  }
   std::fflush(stdout);
   return {};
+}
+
+// Frame time over the frames after the first (which renders or waits for the
+// first keyframe, as a load), and the keyframe stalls and waits.
+void Viewer::printFrameSummary() const {
+  std::vector<double> ms;
+  for (std::size_t i = 1; i < records_.size(); ++i) ms.push_back(records_[i].ms);
+  if (!ms.empty())
+    std::printf("hybridwalk view: frame ms over frames 1..%zu: median %.2f, p95 %.2f, max %.2f\n",
+                records_.size() - 1, median(ms), percentile(ms, 95.0),
+                *std::max_element(ms.begin(), ms.end()));
+  if (worker_)
+    std::printf("hybridwalk view: keyframes async: %ld from the worker (%ld dropped as out of "
+                "reach); %ld stalls (frames that rendered one or, lost, waited for the worker's; "
+                "max %.1f ms), %ld frames warped older ones while one was in flight\n",
+                keyframesFromWorker_, keyframesDiscarded_, keyframeStalls_, maxStallMs_, waitFrames_);
+  else
+    std::printf("hybridwalk view: keyframes in the frame: %ld stalls (max %.1f ms)\n",
+                keyframeStalls_, maxStallMs_);
+}
+
+Status Viewer::writeFrameStats() const {
+  std::string csv =
+      "frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,"
+      "worker_requested,worker_waited,worker_stall,layers\n";
+  char line[160];
+  for (const FrameRecord& r : records_) {
+    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d\n", r.frame,
+                  r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
+                  r.worker ? 1 : 0, r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0,
+                  r.layers);
+    csv += line;
+  }
+  return writeFileAtomic(opt_.frameStatsPath, csv);
 }
 
 }  // namespace

@@ -61,4 +61,25 @@ Result<std::unique_ptr<WindowContext>> createWindowContext(int width, int height
                                                            const std::string& title,
                                                            bool visible = true);
 
+// A second context for a worker thread when the main one is a GLFW window
+// (the viewer's keyframe worker, issue #8): a hidden 16x16 window
+// (GLFW_VISIBLE false) with its own 4.5 core context, sharing nothing with
+// `main` (no GL object crosses contexts). Call on the main thread with `main`
+// current (GLFW creates and destroys windows only there); `main` is current
+// again on return. Destroy it on the main thread too, after the worker has let
+// go of it (attachWindowContext's handle destroyed). HW_GL_FAIL_SECOND=1 in the
+// environment makes creation fail on purpose (to test that callers report it).
+Result<std::unique_ptr<WindowContext>> createSecondWindowContext(WindowContext& main);
+
+// Worker side: makes `second` (from createSecondWindowContext) current on the
+// calling thread and returns a handle whose destruction detaches it from that
+// thread again; the handle does not own the window. The entry-point table
+// loaded for the main window serves this context unchanged: GLX/GLVND's
+// glXGetProcAddress (behind glfwGetProcAddress) hands out the same dispatch
+// stubs for every context, and they call into the context current on the
+// calling thread. Checked here for every table entry (the pointers this
+// thread's glfwGetProcAddress returns must equal the table's); an error names
+// the ones that differ instead of refilling the table under the main thread.
+Result<std::unique_ptr<Context>> attachWindowContext(WindowContext& second);
+
 }  // namespace hw::gl

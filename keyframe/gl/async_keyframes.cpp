@@ -145,7 +145,8 @@ void AsyncKeyframes::run(const scenes::Scene* scene, Status* initStatus) {
   LodBuilder builder;
   {
     Status s;
-    auto ctx = gl::createSecondHeadlessContext();  // current on this thread from here on
+    // Current on this thread from here on.
+    auto ctx = options_.makeContext ? options_.makeContext() : gl::createSecondHeadlessContext();
     if (!ctx) {
       s = Error{"keyframe worker: " + ctx.error().message};
     } else {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/gl/context.h"
 #include "core/result.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
@@ -67,6 +68,13 @@ struct AsyncKeyframeOptions {
   // work instead of its work slowed by an unknown share of a keyframe's.
   // Lifted while the main thread waits for a keyframe, as the others.
   bool slices = false;
+  // Makes the worker's GL context: called on the worker thread, returns a
+  // context current on that thread, which the worker destroys there when it
+  // exits. Empty: a second OSMesa context (gl::createSecondHeadlessContext;
+  // the main thread's entry-point table must then come from OSMesa). With a
+  // GLFW window as the main context: a hidden window made on the main thread
+  // (gl::createSecondWindowContext) and attached here (gl::attachWindowContext).
+  std::function<Result<std::unique_ptr<gl::Context>>()> makeContext;
 };
 
 class AsyncKeyframes final : public KeyframeProducer {
@@ -75,8 +83,9 @@ class AsyncKeyframes final : public KeyframeProducer {
   // context or scene-upload failure comes back here. `scene` is only read
   // during create(); `cameraOf` is called on the worker thread (it must be
   // safe to call concurrently with the main thread, e.g. CameraPath::cameraAt)
-  // and what it refers to must outlive this object. The main thread's GL
-  // entry-point table must come from OSMesa (not a GLFW window).
+  // and what it refers to must outlive this object. The worker's context
+  // comes from AsyncKeyframeOptions::makeContext (default: OSMesa, which
+  // needs the main thread's GL entry-point table to come from OSMesa too).
   static Result<std::unique_ptr<AsyncKeyframes>> create(const scenes::Scene& scene,
                                                         std::function<Camera(int)> cameraOf,
                                                         const AsyncKeyframeOptions& options);
