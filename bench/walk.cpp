@@ -359,6 +359,10 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   int currentFrame = 0;
   Series plotWork{"in-between work (ms.frame)"}, plotKeyWork{"keyframe frame work"},
       plotInterval{"presented interval (ms.interval)"}, plotBudget{"budget"};
+  for (Series* p : {&plotWork, &plotKeyWork, &plotInterval, &plotBudget}) {  // no growth per frame
+    p->x.reserve(static_cast<std::size_t>(frames));
+    p->y.reserve(static_cast<std::size_t>(frames));
+  }
   auto endFrameWork = [&](json& ms, bool keyframeFrame) {
     if (kfWorker && opt.keyframePacing == WalkOptions::KeyframePacing::Slices) {
       const double slice = kfWorker->runSlice();  // part of the frame: the CPUs are the worker's now
@@ -847,10 +851,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   if (writing) {
     {
       PlotOptions po;
-      po.title = "Frame times: " + sceneLabel + (asyncKf ? ", async keyframes" : "") +
-                 (opt.frameBudgetAuto ? ", auto budget"
-                  : budgetOn          ? ", budget " + std::to_string(opt.frameBudgetMs) + " ms"
-                                      : "");
+      char budgetLabel[64] = "";
+      if (opt.frameBudgetAuto)
+        std::snprintf(budgetLabel, sizeof budgetLabel, ", auto budget (p%g of %d frames)",
+                      opt.frameBudgetQuantile * 100, opt.frameBudgetWindow);
+      else if (budgetOn)
+        std::snprintf(budgetLabel, sizeof budgetLabel, ", budget %.1f ms", opt.frameBudgetMs);
+      po.title = "Frame times: " + sceneLabel + (asyncKf ? ", async keyframes" : "") + budgetLabel;
       po.xLabel = "frame";
       po.yLabel = "ms (log)";
       po.logY = true;
