@@ -204,6 +204,63 @@ struct Common {
   int frames = 0;
 };
 
+// --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window
+// (walk and view; bench/frame_budget.h).
+struct FrameBudgetCli {
+  std::string arg = "0";
+  double quantile = 0.9;
+  int window = 30;
+  bool isAuto() const { return arg == "auto"; }
+  double ms() const { return isAuto() ? 0.0 : std::strtod(arg.c_str(), nullptr); }
+};
+
+void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what) {
+  c->add_option("--frame-budget-ms", o.arg,
+                "Per-frame time budget in milliseconds of frame work (0 = off), or 'auto': " +
+                    what +
+                    ". 'auto' sets each frame's budget to the --frame-budget-quantile of the "
+                    "work of the last --frame-budget-window frames, so the frame rate stays "
+                    "steady on any scene and machine")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            if (v == "auto") return {};
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
+              return "expected milliseconds from 0 (off) to 60000, or 'auto', got '" + v + "'";
+            return {};
+          },
+          "MS|auto", "frame budget"))
+      ->capture_default_str();
+  c->add_option("--frame-budget-quantile", o.quantile,
+                "With --frame-budget-ms auto: the budget is this quantile of the recent "
+                "frames' work (walk: in-between frames, without their refresh; above 0, at most 1; 0.9 = 90th percentile: about one frame in "
+                "ten is late, the others present at the budget)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1)
+              return "expected a quantile above 0 and at most 1, got '" + v + "'";
+            return {};
+          },
+          "Q", "budget quantile"))
+      ->capture_default_str();
+  c->add_option("--frame-budget-window", o.window,
+                "With --frame-budget-ms auto: how many of the last frames the quantile is taken "
+                "over (frames, 1 to 100000)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const long x = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || x < 1 || x > 100000)
+              return "expected a whole number of frames from 1 to 100000, got '" + v + "'";
+            return {};
+          },
+          "FRAMES", "budget window"))
+      ->capture_default_str();
+}
+
 void addCommon(CLI::App* c, Common& o) {
   c->add_option("--scene", o.scene,
                 "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
@@ -598,57 +655,14 @@ int main(int argc, char** argv) {
                    "With --async-keyframes: nice increment of the worker thread (0-19)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
-  std::string frameBudgetArg = "0";
-  double frameBudgetQuantile = 0.9;
-  int frameBudgetWindow = 30;
+  FrameBudgetCli fb;
   int staleAfter = 2;
   bool noFramePacing = false, pixelAge = false;
-  walk->add_option("--frame-budget-ms", frameBudgetArg,
-                   "Per-frame time budget in milliseconds of frame work (0 = off), or 'auto': "
-                   "with time left after an in-between frame is composed, the region of pixels "
-                   "carried over from earlier frames longest is re-rendered by the geometry "
-                   "renderer if its estimated cost fits, and frames are presented every this "
-                   "many ms. 'auto' sets each frame's budget to the --frame-budget-quantile of "
-                   "the work (without refresh) of the last --frame-budget-window in-between "
-                   "frames, so the frame rate stays steady on any scene and machine")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            if (v == "auto") return {};
-            char* end = nullptr;
-            const double x = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
-              return "expected milliseconds from 0 (off) to 60000, or 'auto', got '" + v + "'";
-            return {};
-          },
-          "MS|auto", "frame budget"))
-      ->capture_default_str();
-  walk->add_option("--frame-budget-quantile", frameBudgetQuantile,
-                   "With --frame-budget-ms auto: the budget is this quantile of the recent "
-                   "in-between frames' work (above 0, at most 1; 0.9 = 90th percentile: about "
-                   "one frame in ten is late, the others present at the budget)")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            char* end = nullptr;
-            const double x = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1)
-              return "expected a quantile above 0 and at most 1, got '" + v + "'";
-            return {};
-          },
-          "Q", "budget quantile"))
-      ->capture_default_str();
-  walk->add_option("--frame-budget-window", frameBudgetWindow,
-                   "With --frame-budget-ms auto: how many of the last in-between frames the "
-                   "quantile is taken over (frames, 1 to 100000)")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            char* end = nullptr;
-            const long x = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || x < 1 || x > 100000)
-              return "expected a whole number of frames from 1 to 100000, got '" + v + "'";
-            return {};
-          },
-          "FRAMES", "budget window"))
-      ->capture_default_str();
+  addFrameBudgetOptions(walk, fb,
+                        "with time left after an in-between frame is composed, the region of "
+                        "pixels carried over from earlier frames longest is re-rendered by the "
+                        "geometry renderer if its estimated cost fits, and frames are presented "
+                        "every this many ms");
   walk->add_option("--stale-after", staleAfter,
                    "With --frame-budget-ms: frames a pixel must have been carried over from the "
                    "previous frame before it counts for a refresh (at least 1)")
@@ -880,6 +894,11 @@ int main(int argc, char** argv) {
                       "With --async-keyframes: the worker flushes its keyframe render after about "
                       "this many triangles (0 = one flush)")
       ->capture_default_str();
+  FrameBudgetCli viewFb;
+  addFrameBudgetOptions(viewCmd, viewFb,
+                        "after a frame is shown the viewer waits until this many ms have passed "
+                        "since it started, so frames are presented at a steady cadence (pacing "
+                        "only: the viewer does not refresh stale pixels)");
   viewCmd->add_option("--frame-stats", vo.frameStatsPath,
                       "Write one CSV row per frame at exit: ms (time since the previous frame "
                       "ended), keyframe ms and events (rendered in the frame = a stall, read, "
@@ -1078,6 +1097,10 @@ int main(int argc, char** argv) {
                         : viewPacing == "slices" ? VP::Slices
                         : viewPacing == "steps"  ? VP::Steps
                                                  : VP::None;
+    vo.frameBudgetMs = viewFb.ms();
+    vo.frameBudgetAuto = viewFb.isAuto();
+    vo.frameBudgetQuantile = viewFb.quantile;
+    vo.frameBudgetWindow = viewFb.window;
     vo.startHybrid = !viewGeometry;
     vo.hud = !viewNoHud;
     auto s = scenes::loadScene(viewC.scene);
@@ -1453,12 +1476,12 @@ int main(int argc, char** argv) {
                      : keyframePacing == "steps"  ? bench::WalkOptions::KeyframePacing::Steps
                                                   : bench::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
-  const bool frameBudgetAuto = frameBudgetArg == "auto";
-  const double frameBudgetMs = frameBudgetAuto ? 0.0 : std::strtod(frameBudgetArg.c_str(), nullptr);
+  const bool frameBudgetAuto = fb.isAuto();
+  const double frameBudgetMs = fb.ms();
   wo.frameBudgetMs = frameBudgetMs;
   wo.frameBudgetAuto = frameBudgetAuto;
-  wo.frameBudgetQuantile = frameBudgetQuantile;
-  wo.frameBudgetWindow = frameBudgetWindow;
+  wo.frameBudgetQuantile = fb.quantile;
+  wo.frameBudgetWindow = fb.window;
   wo.staleAfter = staleAfter;
   wo.paceFrames = !noFramePacing;
   wo.pixelAge = pixelAge;
@@ -1539,7 +1562,7 @@ int main(int argc, char** argv) {
       s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
   if (frameBudgetAuto)
     std::printf("  frame budget auto: p%.0f of the last %d in-between frames' work, median %.1f ms\n",
-                frameBudgetQuantile * 100, frameBudgetWindow, num(s["frame_budget_ms"]));
+                fb.quantile * 100, fb.window, num(s["frame_budget_ms"]));
   if (frameBudgetMs > 0 || frameBudgetAuto)
     std::printf(
         "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "

@@ -91,6 +91,15 @@ struct ViewerOptions {
   // Test hook: each worker keyframe is taken (waited for) in the frame that
   // requests it, so keyframes and frames are the synchronous viewer's.
   bool asyncLockstep = false;
+  // Frame pacing (`view --frame-budget-ms MS|auto`): after a frame is shown
+  // the viewer sleeps until frameBudgetMs (> 0) have passed since the frame
+  // started; with frameBudgetAuto the budget is the frameBudgetQuantile of
+  // the work of the last frameBudgetWindow frames (bench/frame_budget.h),
+  // none until enough are known. Pacing only: no stale-pixel refresh.
+  double frameBudgetMs = 0;
+  bool frameBudgetAuto = false;
+  double frameBudgetQuantile = 0.9;
+  int frameBudgetWindow = 30;
   // Written at exit if set: one CSV row per frame (frame ms, keyframe
   // events: rendered in the frame, read, taken from the worker, requested,
   // waited for), for median / p95 of the frame time.

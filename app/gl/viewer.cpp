@@ -14,13 +14,16 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <vector>
 
+#include "bench/frame_budget.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/gl/gl_api.h"
@@ -190,6 +193,8 @@ struct FrameRecord {
   long frame = 0;
   int playFrame = -1;
   double ms = 0;  // from the end of the previous frame to the end of this one
+  double workMs = 0;    // from the start of this frame until it was shown (pacing wait excluded)
+  double budgetMs = 0;  // this frame's budget (--frame-budget-ms; 0 = none)
   double keyframeMs = 0;
   bool built = false, read = false, worker = false, requested = false, waited = false,
        stalled = false;
@@ -1406,7 +1411,14 @@ Status Viewer::run() {
   HW_TRY(setUp());
   Stopwatch frameClock;
   double dt = 0;
+  const bool autoBudget = opt_.frameBudgetAuto;
+  bench::AutoFrameBudget budget(std::max(1, opt_.frameBudgetWindow),
+                                opt_.frameBudgetQuantile > 0 && opt_.frameBudgetQuantile <= 1
+                                    ? opt_.frameBudgetQuantile
+                                    : 0.9);
   while (!ctx_->shouldClose()) {
+    const auto frameStart = std::chrono::steady_clock::now();
+    const double budgetMs = autoBudget ? budget.budgetMs() : opt_.frameBudgetMs;
     ctx_->pollEvents();
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(win_, &fw, &fh);
@@ -1455,16 +1467,28 @@ Status Viewer::run() {
     rec.waited = stats_.waitedForKeyframe;
     rec.stalled = stats_.stalledOnWorker;
     rec.layers = stats_.hybrid ? stats_.layers : -1;
+    rec.budgetMs = budgetMs;
     ++frameIndex_;
     const bool last = opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames;
     if (last) {
       rec.ms = frameClock.ms();
+      rec.workMs = rec.ms;  // not shown (no swap) and not paced
       records_.push_back(rec);
       break;  // the back buffer still holds this frame for the exit screenshot
     }
     ctx_->swapBuffers();
     // Slice pacing: the worker's share runs now, while this frame waits.
     if (worker_) worker_->runSlice();
+    // Frame pacing: shown every budgetMs. The first frame renders (or waits
+    // for) the first keyframe, a load: it does not count for the budget.
+    rec.workMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                           frameStart)
+                     .count();
+    if (budgetMs > 0)
+      std::this_thread::sleep_until(
+          frameStart + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double, std::milli>(budgetMs)));
+    if (autoBudget && frameIndex_ > 1) budget.add(rec.workMs);
     std::swap(previous_, frame_);
     havePrevious_ = true;
     if (frame_.colour.width() != width_ || frame_.colour.height() != height_) {
@@ -1515,6 +1539,18 @@ void Viewer::printFrameSummary() const {
     std::printf("hybridwalk view: frame ms over frames 1..%zu: median %.2f, p95 %.2f, max %.2f\n",
                 records_.size() - 1, median(ms), percentile(ms, 95.0),
                 *std::max_element(ms.begin(), ms.end()));
+  if (!ms.empty() && (opt_.frameBudgetMs > 0 || opt_.frameBudgetAuto)) {
+    std::vector<double> work, budgets;
+    for (std::size_t i = 1; i < records_.size(); ++i) {
+      work.push_back(records_[i].workMs);
+      if (records_[i].budgetMs > 0) budgets.push_back(records_[i].budgetMs);
+    }
+    std::printf("hybridwalk view: frame budget %s: median %.2f ms (%zu frames had one); work "
+                "median %.2f, p95 %.2f; frame ms p95/median %.2f\n",
+                opt_.frameBudgetAuto ? "auto" : "fixed", budgets.empty() ? 0.0 : median(budgets),
+                budgets.size(), median(work), percentile(work, 95.0),
+                percentile(ms, 95.0) / median(ms));
+  }
   if (worker_)
     std::printf("hybridwalk view: keyframes async: %ld from the worker (%ld dropped as out of "
                 "reach); %ld stalls (frames that rendered one or, lost, waited for the worker's; "
@@ -1528,13 +1564,13 @@ void Viewer::printFrameSummary() const {
 Status Viewer::writeFrameStats() const {
   std::string csv =
       "frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,"
-      "worker_requested,worker_waited,worker_stall,layers\n";
-  char line[160];
+      "worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms\n";
+  char line[200];
   for (const FrameRecord& r : records_) {
-    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d\n", r.frame,
+    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f\n", r.frame,
                   r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
                   r.worker ? 1 : 0, r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0,
-                  r.layers);
+                  r.layers, r.workMs, r.budgetMs);
     csv += line;
   }
   return writeFileAtomic(opt_.frameStatsPath, csv);
