@@ -371,6 +371,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     }
     const double work = frameSw.ms();
     ms["frame"] = work;
+    if (kfWorker) ms["keyframe_worker"] = kfWorker->workerMsSinceTick();
     if (budgetOn && budgetMs > 0) {
       if (work > budgetMs) {
         ++budgetOverruns;

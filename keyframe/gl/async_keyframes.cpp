@@ -45,6 +45,7 @@ AsyncKeyframes::~AsyncKeyframes() {
 void AsyncKeyframes::endStep() {
   const double now = clock_.ms();
   lastStepMs_ = now - stepStartMs_;
+  tickBusyMs_.fetch_add(now - stepStartMs_, std::memory_order_relaxed);
   debtMs_ += now - stepStartMs_;
   buildStepMs_ += now - stepStartMs_;
   stepStartMs_ = now;
@@ -133,6 +134,7 @@ void AsyncKeyframes::frameTick() {
     std::lock_guard lock(mutex_);
     ++ticks_;
   }
+  tickBusyMs_.store(0, std::memory_order_relaxed);
   workCv_.notify_all();
 }
 

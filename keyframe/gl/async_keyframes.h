@@ -10,6 +10,7 @@
 // shares one pipe screen, so LP_NUM_THREADS is read once, at the first context,
 // and the worker's context adds no rasteriser threads; both contexts queue
 // their rasterisation on the same threads, in order.
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -101,6 +102,11 @@ class AsyncKeyframes final : public KeyframeProducer {
 
   // The main thread started a frame (pacing; see stepsPerFrame).
   void frameTick();
+  // Wall ms of the worker's steps (render pieces, readback, mesh-build steps)
+  // that ended since the last frameTick(): the keyframe work that ran beside
+  // (or, with slices, inside) the current frame. A step still running is not
+  // counted until it ends.
+  double workerMsSinceTick() const { return tickBusyMs_.load(std::memory_order_relaxed); }
   // Main thread, with AsyncKeyframeOptions::slices, between frames: lets the
   // worker run one slice and waits for it. Returns the ms waited (0 without
   // slices, or when the worker has nothing to do).
@@ -144,6 +150,7 @@ class AsyncKeyframes final : public KeyframeProducer {
   double sliceBudgetMs_ = 0, sliceUsedMs_ = 0, lastStepMs_ = 0, sharedLastBuildMs_ = 0;
   double sliceDebtMs_ = 0;  // what the last slice ran over its budget
   Stopwatch clock_;
+  std::atomic<double> tickBusyMs_{0};  // see workerMsSinceTick()
   int built_ = 0;
   double busyMs_ = 0;
   std::thread thread_;

@@ -28,4 +28,12 @@ check "sync report says sync" grep -q '"keyframe_acquisition": "sync"' "$tmp/syn
 check "stdout names stalls" grep -q "keyframe stalls" "$tmp/async.stdout"
 check "cache stayed within 16 MiB" python3 -c "
 import json,sys; s=json.load(open('$r'))['summary']; sys.exit(0 if s['keyframe_cache_peak_mb'] <= 16 else 1)"
+check "per-frame keyframe worker ms: on every frame, not negative, summing to at most the worker's busy time and to more than 0" python3 -c "
+import json,sys; r=json.load(open('$r')); s=r['summary']
+w=[f['ms'].get('keyframe_worker') for f in r['frames']]
+ok = all(x is not None and x >= 0 for x in w) and 0 < sum(w) <= s['keyframe_worker_busy_ms'] + 1e-6
+print(sum(w), s['keyframe_worker_busy_ms']); sys.exit(0 if ok else 1)"
+check "sync frames have no keyframe worker ms" python3 -c "
+import json,sys; r=json.load(open('$tmp/sync/report.json'))
+sys.exit(0 if all('keyframe_worker' not in f['ms'] for f in r['frames']) else 1)"
 finish
