@@ -584,7 +584,9 @@ void Viewer::requestFromWorker(const Camera& cam) {
 // Without `wait` only when it is ready; a keyframe no longer within reach
 // (or of another window size) is dropped.
 Status Viewer::takeFromWorker(FrameStats& st, bool wait) {
-  if (pendingId_ < 0 || (!wait && !worker_->ready(pendingId_))) return {};
+  // finished, not ready: a failed build comes back from take() as an error
+  // (the viewer exits with it) instead of staying pending.
+  if (pendingId_ < 0 || (!wait && !worker_->finished(pendingId_))) return {};
   Stopwatch kt;
   std::unique_ptr<keyframe::CachedKeyframe> e;
   double waitedMs = 0;

@@ -251,6 +251,11 @@ bool AsyncKeyframes::ready(int frame, std::size_t* bytes) const {
   return true;
 }
 
+bool AsyncKeyframes::finished(int frame) const {
+  std::lock_guard lock(mutex_);
+  return done_.count(frame) > 0 || failed_.count(frame) > 0 || workerExited_;
+}
+
 Status AsyncKeyframes::take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) {
   Stopwatch sw;
   bool waited = false;

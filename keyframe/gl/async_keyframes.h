@@ -97,6 +97,10 @@ class AsyncKeyframes final : public KeyframeProducer {
 
   bool request(int frame) override;
   bool ready(int frame, std::size_t* bytes = nullptr) const override;
+  // Built or failed: take() returns at once (the keyframe or its build
+  // error). A caller that polls instead of waiting must use this, not
+  // ready(), or a failed build stays pending forever.
+  bool finished(int frame) const;
   Status take(int frame, std::unique_ptr<CachedKeyframe>* out, double* waitedMs) override;
   void recycle(std::unique_ptr<CachedKeyframe> entry) override;
 

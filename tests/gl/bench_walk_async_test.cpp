@@ -314,6 +314,32 @@ TEST_F(AsyncKeyframesTest, ABuildErrorComesBackForItsFrameAndTheWorkerStillJoins
   EXPECT_TRUE((*w)->take(5, &e, &waited).ok());  // the others are unaffected
 }
 
+TEST_F(AsyncKeyframesTest, AFailedBuildIsFinishedButNotReadySoAPollingCallerSeesTheError) {
+  // The viewer polls finished() and takes only then; ready() alone would
+  // leave a failed build pending forever.
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
+  auto cameraOf = [&](int i) {
+    Camera c = in.path.cameraAt(i);
+    if (i == 10) c.width = 0;
+    return c;
+  };
+  auto w = keyframe::AsyncKeyframes::create(in.scene, cameraOf, {});
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  ASSERT_TRUE((*w)->request(5));
+  ASSERT_TRUE((*w)->request(10));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!((*w)->finished(5) && (*w)->finished(10)) && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_TRUE((*w)->finished(10));
+  EXPECT_FALSE((*w)->ready(10));
+  EXPECT_TRUE((*w)->ready(5));
+  EXPECT_FALSE((*w)->finished(15));  // never requested
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waited = -1;
+  EXPECT_FALSE((*w)->take(10, &e, &waited).ok());
+  EXPECT_EQ(waited, 0.0);  // finished: take() did not wait
+}
+
 TEST_F(AsyncKeyframesTest, AWorkerContextFailureIsAnErrorFromCreate) {
   const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
   ::setenv("HW_GL_FAIL", "1", 1);
