@@ -937,6 +937,9 @@ int main(int argc, char** argv) {
                         "reference pixel within this many probe pixels (0 = the same pixel)")
       ->check(CLI::Range(0, 4))
       ->capture_default_str();
+  oracleCmd->add_flag("--probe-previous-fill", oracleProbeError.previousFill,
+                      "probe-psnr: fill the warped probe's holes from the previous frame's, as "
+                      "the walk does (instead of charging --probe-hole-mse)");
   oracleCmd->add_option("--probe-supersample", oracleProbeError.supersample,
                         "probe-psnr: render probes at this many times their size and box-filter "
                         "down (1 = off)")

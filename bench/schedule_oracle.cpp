@@ -461,6 +461,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
                    {"hole_mse", opt.probeError.holeMse},
                    {"blur_radius", opt.probeError.blurRadius},
                    {"shift_tolerance", opt.probeError.shiftTolerance},
+                   {"previous_fill", opt.probeError.previousFill},
                    {"supersample", opt.probeError.supersample},
                    {"criteria", rows},
                    {"keyframes_per_100", finiteOrNull(bestKf)},

@@ -680,6 +680,36 @@ Result<const KeyframeProbe::Warped*> KeyframeProbe::warped(int key, int frame) {
 Result<double> KeyframeProbe::probeError(int k0, int k1, int frame) {
   const auto key = std::make_tuple(k0, k1, frame);
   if (auto it = errorMemo_.find(key); it != errorMemo_.end()) return it->second;
+  if (!error_.previousFill || frame <= k0 || frame >= k1) {
+    auto e = composeAndCompare(k0, k1, frame, nullptr);
+    if (!e) return e.error();
+    errorMemo_.emplace(key, *e);
+    return *e;
+  }
+  // The walk's chain: frame k0 shows keyframe k0, and each later frame takes
+  // its holes from the one before. Continue the segment's chain, or start it
+  // again from keyframe k0.
+  if (chains_.size() > 512) chains_.clear();  // the planners sweep k0 forward
+  Chain& ch = chains_[std::make_pair(k0, k1)];
+  int start = ch.frame + 1;
+  if (!(ch.frame > k0 && ch.frame < frame)) {
+    auto rk = probe(k0);
+    if (!rk) return rk.error();
+    ch.image = (*rk)->colour.pixels();
+    start = k0 + 1;
+  }
+  for (int g = start; g <= frame; ++g) {
+    auto e = composeAndCompare(k0, k1, g, &ch.image);
+    if (!e) return e.error();
+    ch.image = scratch_->composed;
+    ch.frame = g;
+    errorMemo_.emplace(std::make_tuple(k0, k1, g), *e);
+  }
+  return errorMemo_.at(key);
+}
+
+Result<double> KeyframeProbe::composeAndCompare(int k0, int k1, int frame,
+                                                const std::vector<Rgba8>* previous) {
   auto ra = probe(k0);
   if (!ra) return ra.error();
   auto rb = probe(k1);
@@ -707,10 +737,12 @@ Result<double> KeyframeProbe::probeError(int k0, int k1, int frame) {
   hole.resize(n);
   // The paper's overlay rule: the foreground where it covers (its sky
   // backdrop included), else the background, else a hole.
+  // With `previous`, holes take the previous frame's pixel, as in the walk.
   for (std::size_t i = 0; i < n; ++i) {
     hole[i] = 0;
     if (la.state[i] != kNone) comp[i] = la.colour[i];
     else if (lb.state[i] != kNone) comp[i] = lb.colour[i];
+    else if (previous && previous->size() == n) comp[i] = (*previous)[i];
     else hole[i] = 1, comp[i] = Rgba8{};
   }
   const int r = error_.blurRadius;
@@ -777,7 +809,6 @@ Result<double> KeyframeProbe::probeError(int k0, int k1, int frame) {
   }
   const double mse = sum / static_cast<double>(n);
   splatMs_ += sw.ms();
-  errorMemo_.emplace(key, mse);
   return mse;
 }
 

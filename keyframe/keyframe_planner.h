@@ -134,6 +134,9 @@ struct ProbeErrorOptions {
   // reference pixel within this many probe pixels (0 = the same pixel): a
   // splat rounds positions to whole probe pixels, the warp does not.
   int shiftTolerance = 0;
+  // Holes take the previous frame's composed probe, as the walk fills them
+  // (the segment's chain from keyframe k0 on), instead of costing holeMse.
+  bool previousFill = false;
   // Render probes at supersample× the probe size and box-filter colour down
   // (depth: the nearest sample): anti-aliased probes. 1 = off.
   int supersample = 1;
@@ -204,7 +207,8 @@ class KeyframeProbe {
   // (e.g. a search for the target giving N keyframes) cost little.
   Result<FrameFeatures> features(int k0, int k1, int frame);
   // FrameFeatures::probeMse of (k0, k1, frame), memoised; renders the frame's
-  // probe too. A frame equal to a keyframe's camera gives 0. Keyframe probes
+  // probe too (with previousFill, those of the frames before it in the
+  // segment as well). A frame equal to a keyframe's camera gives 0. Keyframe probes
   // warped into a frame are cached (least recently used, ~64 MB).
   Result<double> probeError(int k0, int k1, int frame);
   int probesRendered() const { return probesRendered_; }
@@ -219,6 +223,14 @@ class KeyframeProbe {
   Camera probeCamera(int frame) const;
   struct Warped;
   Result<const Warped*> warped(int key, int frame);
+  // One frame's composed probe (left in scratch) and its error; holes from
+  // `previous` when given (same size), else charged holeMse.
+  Result<double> composeAndCompare(int k0, int k1, int frame, const std::vector<Rgba8>* previous);
+  struct Chain {
+    int frame = -1;             // the last frame composed
+    std::vector<Rgba8> image;   // its composed probe
+  };
+  std::map<std::pair<int, int>, Chain> chains_;
 
   GeometryRenderer& renderer_;
   std::function<Camera(int)> cameraOf_;
