@@ -195,7 +195,8 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
                             "(colour MSE between the two warped probes), holes+distance (both, two-term fit), "
                             "probe-psnr (both keyframe probes warped into the frame's own probe and "
                             "composed like the walk; its low-res PSNR, holes charged, calibrated "
-                            "to full-res dB; renders every frame's probe)") +
+                            "to full-res dB; renders every frame's probe), probe-psnr+distance "
+                            "(that and distance, two-term fit)") +
                     (withAuto ? "; auto = the one that correlates best with the fixed walks' PSNR" : ""))
       ->check(CLI::IsMember(names))
       ->capture_default_str();
@@ -1322,10 +1323,11 @@ int main(int argc, char** argv) {
                 n(h["oracle_keyframes_per_100"]), -100 * n(h["best_possible_reduction"]),
                 n(h["planner_keyframes_per_100"]), -100 * n(h["planner_reduction"]),
                 oracleOut.c_str());
-    if (const json& pp = h["probe_psnr"]; pp.is_object())
-      std::printf("  probe-psnr (%d px): %.1f keyframes/100 (%+.0f %%, %s); fit on this table: %.1f "
+    for (const json& pp : h["probe_predictors"])
+      std::printf("  %s (%d px): %.1f keyframes/100 (%+.0f %%, %s); fit on this table: %.1f "
                   "(%+.0f %%); one walk-median plan %.0f ms\n",
-                  pp["probe_size"].get<int>(), n(pp["keyframes_per_100"]), -100 * n(pp["reduction"]),
+                  pp["predictor"].get<std::string>().c_str(), pp["probe_size"].get<int>(),
+                  n(pp["keyframes_per_100"]), -100 * n(pp["reduction"]),
                   pp["criterion"].get<std::string>().c_str(), n(pp["in_sample_keyframes_per_100"]),
                   -100 * n(pp["in_sample_reduction"]), n(pp["walk_median_plan_ms"]));
     return 0;

@@ -84,11 +84,14 @@ struct ScheduleOracleOptions {
   bool planner = true;
   keyframe::PlannerOptions plannerOptions;
   double plannerTargetMin = 18, plannerTargetMax = 40, plannerTargetStep = 0.5;
-  // The probe-psnr predictor scored the same way on its own probes of this
-  // size (pixels, longer side; 0 = not scored): worst, median, walk-median
-  // with its default fit, walk-median fitted on the table, one plan's cost;
-  // oracle.json "headline.probe_psnr", probe_error.csv (its error per entry).
+  // The probe predictors (probe-psnr, probe-psnr+distance) scored the same
+  // way on their own probes of this size (pixels, longer side; 0 = not
+  // scored): worst, median, walk-median with the default fit, walk-median
+  // fitted on the table, one plan's cost, targets every probeTargetStep dB;
+  // oracle.json "headline.probe_predictors", probe_error.csv (the regressors
+  // of every entry).
   int probePsnrSize = 64;
+  double probeTargetStep = 0.25;
   keyframe::ProbeErrorOptions probeError;
   bool probePsnrOnly = false;  // skip the planner's own predictor (its sweeps, features.csv)
   bool progress = true;

@@ -200,6 +200,8 @@ const char* predictorName(Predictor p) {
       return "holes+distance";
     case Predictor::ProbePsnr:
       return "probe-psnr";
+    case Predictor::ProbePsnrDistance:
+      return "probe-psnr+distance";
   }
   return "?";
 }
@@ -239,13 +241,16 @@ double predictorValue(const FrameFeatures& f, Predictor p) {
     case Predictor::HolesDistance:
       return std::log10(f.holeFraction + 1e-5);
     case Predictor::ProbePsnr:
+    case Predictor::ProbePsnrDistance:
       return std::log10(f.probeMse + 1e-2);
   }
   return std::nan("");
 }
 
 double predictorValue2(const FrameFeatures& f, Predictor p) {
-  return p == Predictor::HolesDistance ? std::log10(f.relDistance + 1e-3) : 0.0;
+  return p == Predictor::HolesDistance || p == Predictor::ProbePsnrDistance
+             ? std::log10(f.relDistance + 1e-3)
+             : 0.0;
 }
 
 double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p) {
@@ -261,7 +266,7 @@ PsnrFit fitPredictor(const std::vector<FrameFeatures>& f, const std::vector<doub
     if (std::isfinite(a) && std::isfinite(b) && std::isfinite(psnr[i]))
       x.push_back(a), x2.push_back(b), y.push_back(psnr[i]);
   }
-  if (p != Predictor::HolesDistance) return fitLine(x, y);
+  if (p != Predictor::HolesDistance && p != Predictor::ProbePsnrDistance) return fitLine(x, y);
   // Two regressors: solve the centred 2×2 normal equations.
   const double n = static_cast<double>(x.size());
   const PsnrFit bad{std::nan(""), std::nan(""), std::nan("")};
@@ -305,6 +310,8 @@ PsnrFit defaultFit(Predictor p) {
       return {18.43, -2.79, -3.70};
     case Predictor::ProbePsnr:
       return {48.13, -10.0};  // placeholder: the low-res PSNR itself
+    case Predictor::ProbePsnrDistance:
+      return {48.13, -10.0, 0.0};  // placeholder
   }
   return {};
 }
@@ -677,6 +684,18 @@ Result<const KeyframeProbe::Warped*> KeyframeProbe::warped(int key, int frame) {
   return raw;
 }
 
+Result<double> KeyframeProbe::relDistance(int k0, int k1, int frame) {
+  if (auto it = memo_.find(std::make_tuple(k0, k1, frame)); it != memo_.end())
+    return it->second.relDistance;
+  auto ra = probe(k0);
+  if (!ra) return ra.error();
+  auto rb = probe(k1);
+  if (!rb) return rb.error();
+  const glm::dvec3 eye = cameraOf_(frame).eye;
+  return std::min(glm::length(eye - (*ra)->camera.eye) / (*ra)->medianDepth,
+                  glm::length(eye - (*rb)->camera.eye) / (*rb)->medianDepth);
+}
+
 Result<double> KeyframeProbe::probeError(int k0, int k1, int frame) {
   const auto key = std::make_tuple(k0, k1, frame);
   if (auto it = errorMemo_.find(key); it != errorMemo_.end()) return it->second;
@@ -852,7 +871,7 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   Status failure;
   auto predict = [&](int k0, int k1, int i) {
     if (!failure.ok()) return -std::numeric_limits<double>::infinity();
-    if (opt.predictor == Predictor::ProbePsnr) {
+    if (isProbePredictor(opt.predictor)) {
       auto e = probe.probeError(k0, k1, i);
       if (!e) {
         failure = e.error();
@@ -860,6 +879,14 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
       }
       FrameFeatures ff;
       ff.probeMse = *e;
+      if (opt.predictor == Predictor::ProbePsnrDistance) {
+        auto d = probe.relDistance(k0, k1, i);
+        if (!d) {
+          failure = d.error();
+          return -std::numeric_limits<double>::infinity();
+        }
+        ff.relDistance = *d;
+      }
       return predictPsnr(r.fit, ff, opt.predictor);
     }
     auto f = probe.features(k0, k1, i);

@@ -145,10 +145,20 @@ struct ProbeErrorOptions {
 // HolesDistance: holes and distance together (two regressors). ProbePsnr:
 // the probes actually warped and compared (FrameFeatures::probeMse; the
 // frame's own probe is rendered too), regressor log10(probeMse + 1e-2), i.e.
-// linear in the low-resolution PSNR.
-enum class Predictor { Distance, Angle, Holes, Stretch, Disagreement, HolesDistance, ProbePsnr };
+// linear in the low-resolution PSNR. ProbePsnrDistance: that and
+// log10(relDistance + 1e-3) (two regressors).
+enum class Predictor {
+  Distance,
+  Angle,
+  Holes,
+  Stretch,
+  Disagreement,
+  HolesDistance,
+  ProbePsnr,
+  ProbePsnrDistance
+};
 // "distance", "angle", "holes", "stretch", "disagreement", "holes+distance",
-// "probe-psnr"
+// "probe-psnr", "probe-psnr+distance"
 const char* predictorName(Predictor p);
 bool parsePredictor(const char* s, Predictor* out);
 // The predictors computed from FrameFeatures::features() alone (ProbePsnr
@@ -156,12 +166,16 @@ bool parsePredictor(const char* s, Predictor* out);
 constexpr Predictor kAllPredictors[] = {Predictor::Distance,     Predictor::Angle,
                                         Predictor::Holes,        Predictor::Stretch,
                                         Predictor::Disagreement, Predictor::HolesDistance};
-constexpr Predictor kProbePredictors[] = {Predictor::ProbePsnr};
+constexpr Predictor kProbePredictors[] = {Predictor::ProbePsnr, Predictor::ProbePsnrDistance};
+inline bool isProbePredictor(Predictor p) {
+  return p == Predictor::ProbePsnr || p == Predictor::ProbePsnrDistance;
+}
 
 // The (first) regressor of a predictor: log10(feature + floor), floors keep 0
 // finite; HolesDistance's first is the holes one.
 double predictorValue(const FrameFeatures& f, Predictor p);
-// The second regressor: log10(relDistance + 1e-3) for HolesDistance, else 0.
+// The second regressor: log10(relDistance + 1e-3) for HolesDistance and
+// ProbePsnrDistance, else 0.
 double predictorValue2(const FrameFeatures& f, Predictor p);
 
 // PSNR (dB) ≈ intercept + slope · x + slope2 · x2 (x, x2: the regressors).
@@ -211,6 +225,8 @@ class KeyframeProbe {
   // segment as well). A frame equal to a keyframe's camera gives 0. Keyframe probes
   // warped into a frame are cached (least recently used, ~64 MB).
   Result<double> probeError(int k0, int k1, int frame);
+  // FrameFeatures::relDistance alone (no splats), for ProbePsnrDistance.
+  Result<double> relDistance(int k0, int k1, int frame);
   int probesRendered() const { return probesRendered_; }
   double renderMs() const { return renderMs_; }  // probe draws + readbacks
   double splatMs() const { return splatMs_; }    // CPU forward splats
