@@ -917,33 +917,35 @@ int main(int argc, char** argv) {
   keyframe::ProbeErrorOptions oracleProbeError = oracleDefaults.probeError;
   bool oracleProbePsnrOnly = false;
   oracleCmd->add_option("--probe-psnr-size", oracleProbePsnrSize,
-                        "Also score the probe-psnr predictor with probes of this size, pixels on "
-                        "the longer side (0 = not scored); writes probe_error.csv")
+                        "Also score the probe predictors (probe-psnr, probe-psnr+distance) with "
+                        "probes of this size, pixels on the longer side (0 = not scored); writes "
+                        "probe_error.csv")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
   oracleCmd->add_flag("--probe-psnr-only", oracleProbePsnrOnly,
-                      "Score only the probe-psnr predictor (not the default predictor's curves "
-                      "or features.csv)");
+                      "Score only the probe predictors (not the default predictor's curves or "
+                      "features.csv)");
   oracleCmd->add_option("--probe-hole-mse", oracleProbeError.holeMse,
-                        "probe-psnr: squared error charged per hole pixel of the warped probe, "
-                        "(0-255)^2 units")
+                        "Probe predictors with --probe-no-previous-fill: squared error charged per "
+                        "hole pixel of the warped probe, (0-255)^2 units")
       ->check(CLI::Range(0.0, 65025.0))
       ->capture_default_str();
   oracleCmd->add_option("--probe-blur", oracleProbeError.blurRadius,
-                        "probe-psnr: box-blur radius of the compared probes, probe pixels (0 = none)")
+                        "Probe predictors: box-blur radius of the compared probes, probe pixels (0 = none)")
       ->check(CLI::Range(0, 8))
       ->capture_default_str();
   oracleCmd->add_option("--probe-tolerance", oracleProbeError.shiftTolerance,
-                        "probe-psnr without blur: compare each warped pixel with the best "
+                        "Probe predictors without blur: compare each warped pixel with the best "
                         "reference pixel within this many probe pixels (0 = the same pixel)")
       ->check(CLI::Range(0, 4))
       ->capture_default_str();
-  oracleCmd->add_flag("--probe-previous-fill", oracleProbeError.previousFill,
-                      "probe-psnr: fill the warped probe's holes from the previous frame's, as "
-                      "the walk does (instead of charging --probe-hole-mse)");
+  bool oracleNoPreviousFill = false;
+  oracleCmd->add_flag("--probe-no-previous-fill", oracleNoPreviousFill,
+                      "Probe predictors: charge --probe-hole-mse per hole of the warped probe "
+                      "instead of filling it from the previous frame's, as the walk does");
   oracleCmd->add_option("--probe-supersample", oracleProbeError.supersample,
-                        "probe-psnr: render probes at this many times their size and box-filter "
-                        "down (1 = off)")
+                        "Probe predictors: render probes at this many times their size and "
+                        "box-filter down (1 = off)")
       ->check(CLI::Range(1, 8))
       ->capture_default_str();
   oracleCmd->add_option("--out", oracleOut, "Output directory")->capture_default_str();
@@ -1303,6 +1305,7 @@ int main(int argc, char** argv) {
     so.planner = !oracleNoPlanner;
     so.probePsnrSize = oracleProbePsnrSize;
     so.probeError = oracleProbeError;
+    if (oracleNoPreviousFill) so.probeError.previousFill = false;
     so.probePsnrOnly = oracleProbePsnrOnly;
     so.outDir = oracleOut;
     so.progress = !oracleQuiet;

@@ -122,6 +122,8 @@ constexpr double kProbePsnrCap = 99.0;
 double probePsnrDb(double mse);
 
 // How KeyframeProbe::probeError measures a composed probe warp.
+// Defaults: the best measured on the schedule-oracle tables (indoor and
+// q3:oa_dm5, 256², docs/results/2026-12-01/schedule/README.md).
 struct ProbeErrorOptions {
   // Squared error charged per hole pixel, (0–255)² units: the walk fills holes
   // from the previous frame, usually close but not exact.
@@ -136,10 +138,10 @@ struct ProbeErrorOptions {
   int shiftTolerance = 0;
   // Holes take the previous frame's composed probe, as the walk fills them
   // (the segment's chain from keyframe k0 on), instead of costing holeMse.
-  bool previousFill = false;
+  bool previousFill = true;
   // Render probes at supersample× the probe size and box-filter colour down
   // (depth: the nearest sample): anti-aliased probes. 1 = off.
-  int supersample = 1;
+  int supersample = 2;
 };
 
 // HolesDistance: holes and distance together (two regressors). ProbePsnr:

@@ -85,7 +85,9 @@ Camera cameraOf(int i) {
 
 TEST(KeyframeProbePsnr, AFrameAtAKeyframesCameraHasNoError) {
   RayCastRenderer r;
-  KeyframeProbe probe(r, cameraOf, 64);
+  ProbeErrorOptions plain;
+  plain.supersample = 1;
+  KeyframeProbe probe(r, cameraOf, 64, plain);
   auto e = probe.probeError(5, 12, 5);
   ASSERT_TRUE(e.ok()) << e.error().message;
   EXPECT_EQ(*e, 0.0);
@@ -108,6 +110,8 @@ TEST(KeyframeProbePsnr, RanksNearKeyframesAboveFarOnes) {
     ProbeErrorOptions eo;
     eo.blurRadius = blur;
     eo.shiftTolerance = 1 - blur;
+    eo.supersample = 1;
+    eo.previousFill = false;  // holes charged holeMse
     KeyframeProbe probe(r, cameraOf, 64, eo);
     auto nearE = probe.probeError(19, 21, 20);
     auto midE = probe.probeError(12, 28, 20);
