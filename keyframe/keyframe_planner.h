@@ -256,7 +256,7 @@ class KeyframeProbe {
   ProbeErrorOptions error_;
   std::map<int, std::unique_ptr<Probe>> probes_;
   std::map<std::tuple<int, int, int>, FrameFeatures> memo_;
-  std::map<std::tuple<int, int, int>, double> errorMemo_;
+  std::map<std::tuple<int, int, int>, double> errorMemo_, distanceMemo_;
   std::map<std::pair<int, int>, std::unique_ptr<Warped>> warpCache_;
   long warpTick_ = 0;
   int probesRendered_ = 0;
