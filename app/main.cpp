@@ -186,12 +186,17 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
   std::vector<std::string> names;
   if (withAuto) names.push_back("auto");
   for (auto pr : keyframe::kAllPredictors) names.push_back(keyframe::predictorName(pr));
+  for (auto pr : keyframe::kProbePredictors) names.push_back(keyframe::predictorName(pr));
   c->add_option("--predictor", predictor,
                 std::string("Adaptive schedule's predictor of in-between quality: holes (fraction "
                             "of a low-res frame neither keyframe's forward splat covers), distance "
                             "(eye offset / keyframe median depth), angle (view direction, deg), "
                             "stretch (mean |log2| area change of warped pixels), disagreement "
-                            "(colour MSE between the two warped probes), holes+distance (both, two-term fit)") +
+                            "(colour MSE between the two warped probes), holes+distance (both, two-term fit), "
+                            "probe-psnr (both keyframe probes warped into the frame's own probe and "
+                            "composed like the walk; its low-res PSNR, holes charged, calibrated "
+                            "to full-res dB; renders every frame's probe), probe-psnr+distance "
+                            "(that and distance, two-term fit)") +
                     (withAuto ? "; auto = the one that correlates best with the fixed walks' PSNR" : ""))
       ->check(CLI::IsMember(names))
       ->capture_default_str();
@@ -996,6 +1001,42 @@ int main(int argc, char** argv) {
   oracleCmd->add_flag("--no-planner", oracleNoPlanner,
                       "Do not score the error-driven planner (targets 18..40 dB predicted, "
                       "worst-frame and segment-median criteria) on the table");
+  bench::ScheduleOracleOptions oracleDefaults;
+  int oracleProbePsnrSize = oracleDefaults.probePsnrSize;
+  keyframe::ProbeErrorOptions oracleProbeError = oracleDefaults.probeError;
+  bool oracleProbePsnrOnly = false;
+  oracleCmd->add_option("--probe-psnr-size", oracleProbePsnrSize,
+                        "Also score the probe predictors (probe-psnr, probe-psnr+distance) with "
+                        "probes of this size, pixels on the longer side (0 = not scored); writes "
+                        "probe_error.csv")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  oracleCmd->add_flag("--probe-psnr-only", oracleProbePsnrOnly,
+                      "Score only the probe predictors (not the default predictor's curves or "
+                      "features.csv)");
+  oracleCmd->add_option("--probe-hole-mse", oracleProbeError.holeMse,
+                        "Probe predictors with --probe-no-previous-fill: squared error charged per "
+                        "hole pixel of the warped probe, (0-255)^2 units")
+      ->check(CLI::Range(0.0, 65025.0))
+      ->capture_default_str();
+  oracleCmd->add_option("--probe-blur", oracleProbeError.blurRadius,
+                        "Probe predictors: box-blur radius of the compared probes, probe pixels (0 = none)")
+      ->check(CLI::Range(0, 8))
+      ->capture_default_str();
+  oracleCmd->add_option("--probe-tolerance", oracleProbeError.shiftTolerance,
+                        "Probe predictors without blur: compare each warped pixel with the best "
+                        "reference pixel within this many probe pixels (0 = the same pixel)")
+      ->check(CLI::Range(0, 4))
+      ->capture_default_str();
+  bool oracleNoPreviousFill = false;
+  oracleCmd->add_flag("--probe-no-previous-fill", oracleNoPreviousFill,
+                      "Probe predictors: charge --probe-hole-mse per hole of the warped probe "
+                      "instead of filling it from the previous frame's, as the walk does");
+  oracleCmd->add_option("--probe-supersample", oracleProbeError.supersample,
+                        "Probe predictors: render probes at this many times their size and "
+                        "box-filter down (1 = off)")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str();
   oracleCmd->add_option("--out", oracleOut, "Output directory")->capture_default_str();
   oracleCmd->add_flag("--quiet", oracleQuiet, "No progress line");
 
@@ -1360,6 +1401,10 @@ int main(int argc, char** argv) {
     so.maxGap = oracleMaxGap;
     so.tableCsv = oracleTable;
     so.planner = !oracleNoPlanner;
+    so.probePsnrSize = oracleProbePsnrSize;
+    so.probeError = oracleProbeError;
+    if (oracleNoPreviousFill) so.probeError.previousFill = false;
+    so.probePsnrOnly = oracleProbePsnrOnly;
     so.outDir = oracleOut;
     so.progress = !oracleQuiet;
     auto in = loadInputs(oracleC);
@@ -1379,6 +1424,13 @@ int main(int argc, char** argv) {
                 n(h["oracle_keyframes_per_100"]), -100 * n(h["best_possible_reduction"]),
                 n(h["planner_keyframes_per_100"]), -100 * n(h["planner_reduction"]),
                 oracleOut.c_str());
+    for (const json& pp : h["probe_predictors"])
+      std::printf("  %s (%d px): %.1f keyframes/100 (%+.0f %%, %s); fit on this table: %.1f "
+                  "(%+.0f %%); one walk-median plan %.0f ms\n",
+                  pp["predictor"].get<std::string>().c_str(), pp["probe_size"].get<int>(),
+                  n(pp["keyframes_per_100"]), -100 * n(pp["reduction"]),
+                  pp["criterion"].get<std::string>().c_str(), n(pp["in_sample_keyframes_per_100"]),
+                  -100 * n(pp["in_sample_reduction"]), n(pp["walk_median_plan_ms"]));
     return 0;
   }
 

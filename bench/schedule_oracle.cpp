@@ -285,39 +285,44 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
   std::string featureCsv =
       "k0,k1,frame,psnr,rel_distance,angle_deg,hole_fraction,stretch,disagreement_mse\n";
   json inSampleFit = nullptr;
+  std::string probeCsv = "k0,k1,frame,psnr,probe_mse,rel_distance\n";
   double plannerBestKf = std::nan("");
   std::string plannerBestCriterion;
   double refLower = std::nan("");
   for (const json& r : fixedRows)
     if (r["spacing"].get<int>() == opt.referenceSpacing) refLower = r["fixed_psnr_lower_median"].get<double>();
+  // The probe predictors' results (opt.probePsnrSize > 0).
+  json probePredictors = json::array();
   if (opt.planner) {
     keyframe::RenderOptions ropt;
     ropt.depthMode = opt.walk.depthMode;
     auto rr = keyframe::GeometryRenderer::create(scene, ropt);
     if (!rr) return rr.error();
     keyframe::KeyframeProbe probe(**rr, [&](int i) { return path.cameraAt(i); },
-                                  opt.plannerOptions.probeSize);
+                                  opt.plannerOptions.probeSize, opt.plannerOptions.probeError);
     const int gmax = std::min(opt.plannerOptions.maxGap, opt.maxGap);
-    // One plan per target with `base` (criterion, fit), scored on the table;
-    // returns the fewest keyframes per 100 frames reaching the reference.
-    auto sweepTargets = [&](const keyframe::PlannerOptions& base,
-                            const std::string& label) -> Result<double> {
+    // One plan per target with `base` (predictor, criterion, fit) on `pr`,
+    // scored on the table; returns the fewest keyframes per 100 frames
+    // reaching the reference.
+    auto sweepTargets = [&](keyframe::KeyframeProbe& pr, const keyframe::PlannerOptions& base,
+                            const std::string& label, double step) -> Result<double> {
       Series* curve = nullptr;
       for (auto& [l, c] : curves)
         if (l == label) curve = &c;
       if (!curve) curve = &curves.emplace_back(label, Series{}).second;
       double best = std::nan("");
-      for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += opt.plannerTargetStep) {
+      for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += step) {
         keyframe::PlannerOptions po = base;
         po.targetPsnrDb = t;
         po.maxGap = gmax;
         po.minGap = std::min(po.minGap, po.maxGap);
-        auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
+        auto plan = keyframe::planAdaptiveSchedule(pr, frames, po);
         if (!plan) return plan.error();
         auto sp = schedulePsnr(table, plan->keyframes);
         if (!sp) return sp.error();
         const double kf = 100.0 * static_cast<double>(plan->keyframes.size()) / frames;
         plannerRows.push_back({{"criterion", label},
+                               {"predictor", keyframe::predictorName(base.predictor)},
                                {"target", t},
                                {"keyframes", plan->keyframes.size()},
                                {"keyframes_per_100", kf},
@@ -330,46 +335,161 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       }
       return best;
     };
-    for (keyframe::PlanCriterion c :
-         {keyframe::PlanCriterion::WorstFrame, keyframe::PlanCriterion::SegmentMedian,
-          keyframe::PlanCriterion::WalkMedian}) {
-      keyframe::PlannerOptions po = opt.plannerOptions;
-      po.criterion = c;
-      auto best = sweepTargets(po, keyframe::planCriterionName(c));
-      if (!best) return best.error();
-      if (!(*best >= plannerBestKf)) {
-        plannerBestKf = *best;
-        plannerBestCriterion = keyframe::planCriterionName(c);
+    const keyframe::PlanCriterion criteria[] = {keyframe::PlanCriterion::WorstFrame,
+                                                keyframe::PlanCriterion::SegmentMedian,
+                                                keyframe::PlanCriterion::WalkMedian};
+    if (!opt.probePsnrOnly) {
+      for (keyframe::PlanCriterion c : criteria) {
+        keyframe::PlannerOptions po = opt.plannerOptions;
+        po.criterion = c;
+        auto best = sweepTargets(probe, po, keyframe::planCriterionName(c), opt.plannerTargetStep);
+        if (!best) return best.error();
+        if (!(*best >= plannerBestKf)) {
+          plannerBestKf = *best;
+          plannerBestCriterion = keyframe::planCriterionName(c);
+        }
+      }
+      // The same predictor fitted on this table (in-sample: the path's own
+      // measured PSNRs), walk-median: what the features can rank once the
+      // fit's scale is right for the scene.
+      std::vector<keyframe::FrameFeatures> feats;
+      std::vector<double> measured;
+      for (int k0 = 0; k0 < frames; ++k0)
+        for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
+          for (int f = k0 + 1; f < k1; ++f) {
+            auto ft = probe.features(k0, k1, f);
+            if (!ft) return ft.error();
+            feats.push_back(*ft);
+            measured.push_back(table.at(k0, k1, f));
+            featureCsv += std::to_string(k0) + "," + std::to_string(k1) + "," + std::to_string(f) +
+                          "," + exact(table.at(k0, k1, f)) + "," + exact(ft->relDistance) + "," +
+                          exact(ft->angleDeg) + "," + exact(ft->holeFraction) + "," +
+                          exact(ft->stretch) + "," + exact(ft->disagreementMse) + "\n";
+          }
+      const keyframe::PsnrFit fit =
+          keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
+      if (std::isfinite(fit.intercept) && std::isfinite(fit.slope)) {
+        inSampleFit = {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}};
+        keyframe::PlannerOptions po = opt.plannerOptions;
+        po.criterion = keyframe::PlanCriterion::WalkMedian;
+        po.useDefaultFit = false;
+        po.fit = fit;
+        auto best = sweepTargets(probe, po, "walk-median, fit on this table", opt.plannerTargetStep);
+        if (!best) return best.error();
+        inSampleBestKf = *best;
       }
     }
-    // The same predictor fitted on this table (in-sample: the path's own
-    // measured PSNRs), walk-median: what the features can rank once the
-    // fit's scale is right for the scene.
-    std::vector<keyframe::FrameFeatures> feats;
-    std::vector<double> measured;
-    for (int k0 = 0; k0 < frames; ++k0)
-      for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
-        for (int f = k0 + 1; f < k1; ++f) {
-          auto ft = probe.features(k0, k1, f);
-          if (!ft) return ft.error();
-          feats.push_back(*ft);
-          measured.push_back(table.at(k0, k1, f));
-          featureCsv += std::to_string(k0) + "," + std::to_string(k1) + "," + std::to_string(f) +
-                        "," + exact(table.at(k0, k1, f)) + "," + exact(ft->relDistance) + "," +
-                        exact(ft->angleDeg) + "," + exact(ft->holeFraction) + "," +
-                        exact(ft->stretch) + "," + exact(ft->disagreementMse) + "\n";
+    // The probe predictors (the probes warped and compared with the frame's
+    // own probe; + distance), on their own probes: the same three criteria
+    // with the default fit, and walk-median with a fit on this table.
+    if (opt.probePsnrSize > 0) {
+      keyframe::KeyframeProbe pp(**rr, [&](int i) { return path.cameraAt(i); }, opt.probePsnrSize,
+                                 opt.probeError);
+      std::vector<double> meas;
+      for (int k0 = 0; k0 < frames; ++k0)
+        for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
+          for (int f = k0 + 1; f < k1; ++f) meas.push_back(table.at(k0, k1, f));
+      for (keyframe::Predictor pred : keyframe::kProbePredictors) {
+        keyframe::PlannerOptions base = opt.plannerOptions;
+        base.predictor = pred;
+        base.probeSize = opt.probePsnrSize;
+        base.probeError = opt.probeError;
+        const std::string tag = std::string(keyframe::predictorName(pred)) + " " +
+                                std::to_string(opt.probePsnrSize) + " px, ";
+        json rows = json::array();
+        // The cost of one walk-median plan over the whole path from scratch
+        // (every frame's probe, every warp and comparison up to the max gap).
+        double planMs = 0, planRenderMs = 0;
+        {
+          keyframe::PlannerOptions po = base;
+          po.criterion = keyframe::PlanCriterion::WalkMedian;
+          po.maxGap = gmax;
+          po.minGap = std::min(po.minGap, po.maxGap);
+          po.targetPsnrDb = refLower;
+          auto plan = keyframe::planAdaptiveSchedule(**rr, [&](int i) { return path.cameraAt(i); },
+                                                     frames, po);
+          if (!plan) return plan.error();
+          planMs = plan->planMs;
+          planRenderMs = plan->probeRenderMs;
         }
-    const keyframe::PsnrFit fit =
-        keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
-    if (std::isfinite(fit.intercept) && std::isfinite(fit.slope)) {
-      inSampleFit = {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}};
-      keyframe::PlannerOptions po = opt.plannerOptions;
-      po.criterion = keyframe::PlanCriterion::WalkMedian;
-      po.useDefaultFit = false;
-      po.fit = fit;
-      auto best = sweepTargets(po, "walk-median, fit on this table");
-      if (!best) return best.error();
-      inSampleBestKf = *best;
+        double bestKf = std::nan("");
+        std::string bestCrit;
+        for (keyframe::PlanCriterion c : criteria) {
+          keyframe::PlannerOptions po = base;
+          po.criterion = c;
+          auto best = sweepTargets(pp, po, tag + keyframe::planCriterionName(c), opt.probeTargetStep);
+          if (!best) return best.error();
+          rows.push_back({{"criterion", keyframe::planCriterionName(c)},
+                          {"keyframes_per_100", finiteOrNull(*best)}});
+          if (!(*best >= bestKf)) bestKf = *best, bestCrit = keyframe::planCriterionName(c);
+        }
+        // Every table entry's regressors (the walk-median plans above
+        // memoised them all).
+        std::vector<keyframe::FrameFeatures> pf;
+        const bool first = pred == keyframe::kProbePredictors[0];
+        for (int k0 = 0; k0 < frames; ++k0)
+          for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
+            for (int f = k0 + 1; f < k1; ++f) {
+              auto e = pp.probeError(k0, k1, f);
+              if (!e) return e.error();
+              auto d = pp.relDistance(k0, k1, f);
+              if (!d) return d.error();
+              keyframe::FrameFeatures ff;
+              ff.probeMse = *e;
+              ff.relDistance = *d;
+              pf.push_back(ff);
+              if (first)
+                probeCsv += std::to_string(k0) + "," + std::to_string(k1) + "," +
+                            std::to_string(f) + "," + exact(table.at(k0, k1, f)) + "," + exact(*e) +
+                            "," + exact(*d) + "\n";
+            }
+        std::vector<double> predDefault, predIn;
+        const keyframe::PsnrFit dfit = keyframe::defaultFit(pred);
+        const keyframe::PsnrFit ifit = keyframe::fitPredictor(pf, meas, pred);
+        for (const auto& ff : pf) {
+          predDefault.push_back(keyframe::predictPsnr(dfit, ff, pred));
+          predIn.push_back(keyframe::predictPsnr(ifit, ff, pred));
+        }
+        double inKf = std::nan("");
+        if (std::isfinite(ifit.intercept) && std::isfinite(ifit.slope)) {
+          keyframe::PlannerOptions po = base;
+          po.criterion = keyframe::PlanCriterion::WalkMedian;
+          po.useDefaultFit = false;
+          po.fit = ifit;
+          auto best = sweepTargets(pp, po, tag + "walk-median, fit on this table", opt.probeTargetStep);
+          if (!best) return best.error();
+          inKf = *best;
+        }
+        double rmse = 0;
+        for (std::size_t i = 0; i < meas.size(); ++i)
+          rmse += (predDefault[i] - meas[i]) * (predDefault[i] - meas[i]);
+        rmse = std::sqrt(rmse / static_cast<double>(std::max<std::size_t>(1, meas.size())));
+        probePredictors.push_back(
+            {{"predictor", keyframe::predictorName(pred)},
+             {"probe_size", opt.probePsnrSize},
+             {"hole_mse", opt.probeError.holeMse},
+             {"blur_radius", opt.probeError.blurRadius},
+             {"shift_tolerance", opt.probeError.shiftTolerance},
+             {"previous_fill", opt.probeError.previousFill},
+             {"supersample", opt.probeError.supersample},
+             {"target_step", opt.probeTargetStep},
+             {"criteria", rows},
+             {"keyframes_per_100", finiteOrNull(bestKf)},
+             {"criterion", bestCrit},
+             {"reduction", finiteOrNull(1.0 - bestKf / refKf)},
+             {"default_fit",
+              {{"intercept", dfit.intercept}, {"slope", dfit.slope}, {"slope2", dfit.slope2}}},
+             {"default_fit_rmse_db", finiteOrNull(rmse)},
+             {"spearman", finiteOrNull(keyframe::spearman(predIn, meas))},
+             {"in_sample_fit",
+              {{"intercept", finiteOrNull(ifit.intercept)},
+               {"slope", finiteOrNull(ifit.slope)},
+               {"slope2", finiteOrNull(ifit.slope2)}}},
+             {"in_sample_keyframes_per_100", finiteOrNull(inKf)},
+             {"in_sample_reduction", finiteOrNull(1.0 - inKf / refKf)},
+             {"walk_median_plan_ms", planMs},
+             {"walk_median_plan_probe_render_ms", planRenderMs}});
+      }
     }
   }
   json headline = {{"reference_spacing", opt.referenceSpacing},
@@ -383,7 +503,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
                    {"reference_keyframes_per_100", refKf},
                    {"reference_psnr_median", refMedian},
                    {"reference_walk_psnr_median", finiteOrNull(referenceWalkMedian)},
-                   {"goal_reduction", 0.30}};
+                   {"goal_reduction", 0.30},
+                   {"probe_predictors", probePredictors}};
   for (const json& r : fixedRows)
     if (r["spacing"].get<int>() == opt.referenceSpacing) {
       headline["oracle_keyframes_per_100"] = r.value("oracle_keyframes_per_100", json(nullptr));
@@ -427,7 +548,9 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     fs.colour = pal[0];
     os.colour = pal[2];
     std::vector<Series> series{fs, os};
-    const std::size_t planColour[] = {1, 3, 4, 5};  // worst, median, walk-median, in-sample fit
+    // worst, median, walk-median, in-sample fit; then the probe predictors'
+    // four each (colours repeat past the palette)
+    const std::size_t planColour[] = {1, 3, 4, 5, 6, 7, 8, 9, 1, 3, 4, 5};
     for (std::size_t i = 0; i < curves.size(); ++i) {
       Series c = curves[i].second;
       c.label = "error-driven planner, " + curves[i].first;
@@ -456,7 +579,11 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     HW_TRY(writeFileAtomic(opt.outDir + "/segments.csv", seg));
   }
   // The planner's features of every (k0, k1, frame) next to its PSNR.
-  if (opt.planner) HW_TRY(writeFileAtomic(opt.outDir + "/features.csv", featureCsv));
+  if (opt.planner && !opt.probePsnrOnly)
+    HW_TRY(writeFileAtomic(opt.outDir + "/features.csv", featureCsv));
+  // The probe-psnr predictor's low-resolution error of every entry.
+  if (opt.planner && opt.probePsnrSize > 0)
+    HW_TRY(writeFileAtomic(opt.outDir + "/probe_error.csv", probeCsv));
   HW_TRY(writeFileAtomic(opt.outDir + "/oracle.json", doc.dump(1)));
   return doc;
 }

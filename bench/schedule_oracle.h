@@ -84,6 +84,16 @@ struct ScheduleOracleOptions {
   bool planner = true;
   keyframe::PlannerOptions plannerOptions;
   double plannerTargetMin = 18, plannerTargetMax = 40, plannerTargetStep = 0.5;
+  // The probe predictors (probe-psnr, probe-psnr+distance) scored the same
+  // way on their own probes of this size (pixels, longer side; 0 = not
+  // scored): worst, median, walk-median with the default fit, walk-median
+  // fitted on the table, one plan's cost, targets every probeTargetStep dB;
+  // oracle.json "headline.probe_predictors", probe_error.csv (the regressors
+  // of every entry).
+  int probePsnrSize = 64;
+  double probeTargetStep = 0.25;
+  keyframe::ProbeErrorOptions probeError;
+  bool probePsnrOnly = false;  // skip the planner's own predictor (its sweeps, features.csv)
   bool progress = true;
 };
 
@@ -95,7 +105,7 @@ Result<SegmentTable> readSegmentTable(const std::string& csvText, const std::str
 // A GL context must be current. Fills the table with walks, then writes
 // oracle.json (headline, fixed and oracle curves, schedules), oracle.csv,
 // oracle.png, segments.csv (the table: k0,k1,frame,psnr) and, with the planner,
-// features.csv (its probe features of every entry) into outDir. Returns the oracle.json document.
+// features.csv (its probe features of every entry) and probe_error.csv into outDir. Returns the oracle.json document.
 Result<nlohmann::json> runScheduleOracle(const scenes::Scene& scene, const std::string& sceneLabel,
                                          const scenes::CameraPath& path,
                                          const ScheduleOracleOptions& options);

@@ -13,9 +13,11 @@
 // frame between the current keyframe and that candidate drops below target;
 // a wrong guess costs holes, filled from the previous frame as usual.
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/camera.h"
@@ -106,21 +108,76 @@ struct FrameFeatures {
   // Where both keyframes land at the same depth (within 5 %): mean squared
   // RGB difference between the two warped probes, (0–255)² units.
   double disagreementMse = 0;
+  // The warp itself at probe resolution: both keyframe probes forward-splatted
+  // into the frame's own probe camera and composed like the walk (nearer
+  // keyframe in front, the other behind), against the frame's own probe: mean
+  // squared RGB error, (0–255)² units, holes (neither layer covers) costing
+  // ProbeErrorOptions::holeMse. NaN unless computed (KeyframeProbe::probeError).
+  double probeMse = std::numeric_limits<double>::quiet_NaN();
 };
 
-// HolesDistance: holes and distance together (two regressors).
-enum class Predictor { Distance, Angle, Holes, Stretch, Disagreement, HolesDistance };
-// "distance", "angle", "holes", "stretch", "disagreement", "holes+distance"
+// Low-resolution PSNR of a probe MSE, dB: 10·log10(255²/mse), capped at
+// kProbePsnrCap (the walk's value for an exact frame) when mse → 0.
+constexpr double kProbePsnrCap = 99.0;
+double probePsnrDb(double mse);
+
+// How KeyframeProbe::probeError measures a composed probe warp.
+// Defaults: the best measured on the schedule-oracle tables (indoor and
+// q3:oa_dm5, 256², docs/results/2026-12-01/schedule/README.md).
+struct ProbeErrorOptions {
+  // Squared error charged per hole pixel, (0–255)² units: the walk fills holes
+  // from the previous frame, usually close but not exact.
+  double holeMse = 1000;
+  // Compare box-blurred images (radius in probe pixels, 0 = none): textures
+  // alias at 64 px, and a sub-pixel shift of an aliased texture is not an error
+  // the full-resolution warp makes.
+  int blurRadius = 1;
+  // Without blur: each composed pixel is compared with the closest-matching
+  // reference pixel within this many probe pixels (0 = the same pixel): a
+  // splat rounds positions to whole probe pixels, the warp does not.
+  int shiftTolerance = 0;
+  // Holes take the previous frame's composed probe, as the walk fills them
+  // (the segment's chain from keyframe k0 on), instead of costing holeMse.
+  bool previousFill = true;
+  // Render probes at supersample× the probe size and box-filter colour down
+  // (depth: the nearest sample): anti-aliased probes. 1 = off.
+  int supersample = 2;
+};
+
+// HolesDistance: holes and distance together (two regressors). ProbePsnr:
+// the probes actually warped and compared (FrameFeatures::probeMse; the
+// frame's own probe is rendered too), regressor log10(probeMse + 1e-2), i.e.
+// linear in the low-resolution PSNR. ProbePsnrDistance: that and
+// log10(relDistance + 1e-3) (two regressors).
+enum class Predictor {
+  Distance,
+  Angle,
+  Holes,
+  Stretch,
+  Disagreement,
+  HolesDistance,
+  ProbePsnr,
+  ProbePsnrDistance
+};
+// "distance", "angle", "holes", "stretch", "disagreement", "holes+distance",
+// "probe-psnr", "probe-psnr+distance"
 const char* predictorName(Predictor p);
 bool parsePredictor(const char* s, Predictor* out);
+// The predictors computed from FrameFeatures::features() alone (ProbePsnr
+// needs probeError() as well: kProbePredictors).
 constexpr Predictor kAllPredictors[] = {Predictor::Distance,     Predictor::Angle,
                                         Predictor::Holes,        Predictor::Stretch,
                                         Predictor::Disagreement, Predictor::HolesDistance};
+constexpr Predictor kProbePredictors[] = {Predictor::ProbePsnr, Predictor::ProbePsnrDistance};
+inline bool isProbePredictor(Predictor p) {
+  return p == Predictor::ProbePsnr || p == Predictor::ProbePsnrDistance;
+}
 
 // The (first) regressor of a predictor: log10(feature + floor), floors keep 0
 // finite; HolesDistance's first is the holes one.
 double predictorValue(const FrameFeatures& f, Predictor p);
-// The second regressor: log10(relDistance + 1e-3) for HolesDistance, else 0.
+// The second regressor: log10(relDistance + 1e-3) for HolesDistance and
+// ProbePsnrDistance, else 0.
 double predictorValue2(const FrameFeatures& f, Predictor p);
 
 // PSNR (dB) ≈ intercept + slope · x + slope2 · x2 (x, x2: the regressors).
@@ -154,8 +211,10 @@ double spearman(const std::vector<double>& x, const std::vector<double>& y);
 // pixels (same field of view).
 class KeyframeProbe {
  public:
-  // `renderer` must outlive the probe; it is used at probe resolution.
-  KeyframeProbe(GeometryRenderer& renderer, std::function<Camera(int)> cameraOf, int probeSize);
+  // `renderer` must outlive the probe; it is used at probe resolution (times
+  // error.supersample).
+  KeyframeProbe(GeometryRenderer& renderer, std::function<Camera(int)> cameraOf, int probeSize,
+                ProbeErrorOptions error = {});
   ~KeyframeProbe();
   KeyframeProbe(const KeyframeProbe&) = delete;
   KeyframeProbe& operator=(const KeyframeProbe&) = delete;
@@ -163,20 +222,43 @@ class KeyframeProbe {
   // Features are memoised per (k0, k1, frame): repeated plans on one probe
   // (e.g. a search for the target giving N keyframes) cost little.
   Result<FrameFeatures> features(int k0, int k1, int frame);
+  // FrameFeatures::probeMse of (k0, k1, frame), memoised; renders the frame's
+  // probe too (with previousFill, those of the frames before it in the
+  // segment as well). A frame equal to a keyframe's camera gives 0. Keyframe probes
+  // warped into a frame are cached (least recently used, ~64 MB).
+  Result<double> probeError(int k0, int k1, int frame);
+  // FrameFeatures::relDistance alone (no splats), for ProbePsnrDistance.
+  Result<double> relDistance(int k0, int k1, int frame);
   int probesRendered() const { return probesRendered_; }
   double renderMs() const { return renderMs_; }  // probe draws + readbacks
   double splatMs() const { return splatMs_; }    // CPU forward splats
+  int probeSize() const { return probeSize_; }
+  const ProbeErrorOptions& errorOptions() const { return error_; }
 
   struct Probe;  // one rendered low-resolution keyframe (keyframe_planner.cpp)
  private:
   Result<const Probe*> probe(int frame);
   Camera probeCamera(int frame) const;
+  struct Warped;
+  Result<const Warped*> warped(int key, int frame);
+  // One frame's composed probe (left in scratch) and its error; holes from
+  // `previous` when given (same size), else charged holeMse.
+  Result<double> composeAndCompare(int k0, int k1, int frame, const std::vector<Rgba8>* previous);
+  struct Chain {
+    int frame = -1;             // the last frame composed
+    std::vector<Rgba8> image;   // its composed probe
+  };
+  std::map<std::pair<int, int>, Chain> chains_;
 
   GeometryRenderer& renderer_;
   std::function<Camera(int)> cameraOf_;
   int probeSize_;
+  ProbeErrorOptions error_;
   std::map<int, std::unique_ptr<Probe>> probes_;
   std::map<std::tuple<int, int, int>, FrameFeatures> memo_;
+  std::map<std::tuple<int, int, int>, double> errorMemo_, distanceMemo_;
+  std::map<std::pair<int, int>, std::unique_ptr<Warped>> warpCache_;
+  long warpTick_ = 0;
   int probesRendered_ = 0;
   double renderMs_ = 0, splatMs_ = 0;
   struct Scratch;
@@ -194,6 +276,7 @@ struct PlannerOptions {
   bool useDefaultFit = true;  // fit = defaultFit(predictor)
   PsnrFit fit;                // used when !useDefaultFit
   int probeSize = 64;         // pixels, longer side of the probes
+  ProbeErrorOptions probeError;  // probe-psnr only
   int candidateStride = 1;    // see PlanSearch
   int framesPerSegment = 0;   // see PlanSearch (0 = every in-between frame)
 };
