@@ -209,6 +209,21 @@ struct Common {
   int frames = 0;
 };
 
+// A whole number of frames in [lo, hi]: "expected a whole number of frames from
+// lo to hi, got 'V'".
+CLI::Validator wholeFrames(long lo, long hi, const std::string& name) {
+  return CLI::Validator(
+      [lo, hi](std::string& v) -> std::string {
+        char* end = nullptr;
+        const long x = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || x < lo || x > hi)
+          return "expected a whole number of frames from " + std::to_string(lo) + " to " +
+                 std::to_string(hi) + ", got '" + v + "'";
+        return {};
+      },
+      "FRAMES", name);
+}
+
 // --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window
 // (walk and view; bench/frame_budget.h).
 struct FrameBudgetCli {
@@ -254,15 +269,7 @@ void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& wh
   c->add_option("--frame-budget-window", o.window,
                 "With --frame-budget-ms auto: how many of the last frames the quantile is taken "
                 "over (frames, 1 to 100000)")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            char* end = nullptr;
-            const long x = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || x < 1 || x > 100000)
-              return "expected a whole number of frames from 1 to 100000, got '" + v + "'";
-            return {};
-          },
-          "FRAMES", "budget window"))
+      ->check(wholeFrames(1, 100000, "budget window"))
       ->capture_default_str();
 }
 
@@ -671,15 +678,7 @@ int main(int argc, char** argv) {
   walk->add_option("--stale-after", staleAfter,
                    "With --frame-budget-ms: frames a pixel must have been carried over from the "
                    "previous frame before it counts for a refresh (at least 1)")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            char* end = nullptr;
-            const long x = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || x < 1 || x > 255)
-              return "expected a whole number of frames from 1 to 255, got '" + v + "'";
-            return {};
-          },
-          "FRAMES", "stale after"))
+      ->check(wholeFrames(1, 255, "stale after"))
       ->capture_default_str();
   walk->add_flag("--no-frame-pacing", noFramePacing,
                  "With --frame-budget-ms: refresh within the budget but do not wait for it to "

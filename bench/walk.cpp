@@ -184,7 +184,6 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
                                  : 0.9);
   // This frame's budget, ms (0 = none: no refresh, no pacing).
   double budgetMs = opt.frameBudgetAuto ? 0.0 : opt.frameBudgetMs;
-  std::vector<double> budgetsUsed;  // per frame with a budget (auto)
   const bool trackAge = budgetOn || opt.pixelAge;
   constexpr int kTile = WalkOptions::kRefreshTilePx;
   RefreshCostModel refreshCost;
@@ -355,7 +354,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   std::chrono::steady_clock::time_point frameStart;
   std::vector<double> sliceMs;  // keyframe slices run at the end of each frame (Slices pacing)
   // frame_times.png: work and presented interval per frame, keyframe frames
-  // apart, and each frame's budget.
+  // apart, and each frame's budget (plotBudget.y also gives the summary's
+  // per-frame budget stats).
   int currentFrame = 0;
   Series plotWork{"in-between work (ms.frame)"}, plotKeyWork{"keyframe frame work"},
       plotInterval{"presented interval (ms.interval)"}, plotBudget{"budget"};
@@ -421,7 +421,6 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     if (opt.frameBudgetAuto) {
       budgetMs = autoBudget.budgetMs();
       fj["budget_ms"] = budgetMs > 0 ? json(budgetMs) : json(nullptr);
-      if (budgetMs > 0) budgetsUsed.push_back(budgetMs);
     }
     frameSw.restart();
     frameStart = std::chrono::steady_clock::now();
@@ -811,13 +810,13 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   // Frame budget and pixel age (issue #8; WalkOptions::frameBudgetMs).
   // With the automatic budget: the median of the per-frame budgets.
   summary["frame_budget_ms"] =
-      opt.frameBudgetAuto ? finiteOrNull(median(budgetsUsed)) : json(opt.frameBudgetMs);
+      opt.frameBudgetAuto ? finiteOrNull(median(plotBudget.y)) : json(opt.frameBudgetMs);
   summary["frame_budget_mode"] = opt.frameBudgetAuto ? "auto" : budgetOn ? "fixed" : "off";
   summary["frame_budget_auto"] =
       opt.frameBudgetAuto ? json{{"quantile", opt.frameBudgetQuantile},
                                  {"window_frames", opt.frameBudgetWindow},
-                                 {"budget_ms", stats(budgetsUsed)},
-                                 {"frames_without_budget", frames - static_cast<int>(budgetsUsed.size())}}
+                                 {"budget_ms", stats(plotBudget.y)},
+                                 {"frames_without_budget", frames - static_cast<int>(plotBudget.y.size())}}
                           : json(nullptr);
   summary["frame_pacing"] = budgetOn && opt.paceFrames;
   summary["pixel_age"] = trackAge;

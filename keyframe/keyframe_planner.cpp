@@ -599,6 +599,16 @@ Result<const KeyframeProbe::Probe*> KeyframeProbe::probe(int frame) {
   return raw;
 }
 
+namespace {
+// FrameFeatures::relDistance: the eye's translation from the nearer keyframe
+// relative to that keyframe's median scene depth.
+double relativeDistance(const glm::dvec3& eye, const KeyframeProbe::Probe& a,
+                        const KeyframeProbe::Probe& b) {
+  return std::min(glm::length(eye - a.camera.eye) / a.medianDepth,
+                  glm::length(eye - b.camera.eye) / b.medianDepth);
+}
+}  // namespace
+
 Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
   const auto key = std::make_tuple(k0, k1, frame);
   if (auto it = memo_.find(key); it != memo_.end()) return it->second;
@@ -614,7 +624,7 @@ Result<FrameFeatures> KeyframeProbe::features(int k0, int k1, int frame) {
   const Probe* fg = da <= db ? pa : pb;  // nearer eye in front, ties to the earlier keyframe
   const Probe* bg = fg == pa ? pb : pa;
   FrameFeatures f;
-  f.relDistance = std::min(da / pa->medianDepth, db / pb->medianDepth);
+  f.relDistance = relativeDistance(t.eye, *pa, *pb);
   f.angleDeg =
       glm::degrees(std::acos(std::clamp(glm::dot(t.forward, fg->camera.forward), -1.0, 1.0)));
   SplatLayer& la = scratch_->a;
@@ -696,8 +706,7 @@ Result<double> KeyframeProbe::relDistance(int k0, int k1, int frame) {
   auto rb = probe(k1);
   if (!rb) return rb.error();
   const glm::dvec3 eye = cameraOf_(frame).eye;  // a path camera: not free, hence the memo
-  const double d = std::min(glm::length(eye - (*ra)->camera.eye) / (*ra)->medianDepth,
-                            glm::length(eye - (*rb)->camera.eye) / (*rb)->medianDepth);
+  const double d = relativeDistance(eye, **ra, **rb);
   distanceMemo_.emplace(key, d);
   return d;
 }
