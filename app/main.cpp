@@ -4,6 +4,7 @@
 // options, GL) are printed as "hybridwalk: error: ..." with a non-zero exit.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include "bench/bench_suite.h"
 #include "bench/export.h"
 #include "bench/slurm.h"
+#include "bench/schedule_calibration.h"
 #include "bench/schedule_oracle.h"
 #include "bench/schedule_study.h"
 #include "bench/stress.h"
@@ -72,6 +74,16 @@ bool parseTau(const std::string& s, double* out) {
   } catch (...) {
     return false;
   }
+}
+
+// A whole string that is one finite number (strtod syntax).
+bool parseFiniteDouble(const std::string& s, double* out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || !std::isfinite(v)) return false;
+  *out = v;
+  return true;
 }
 
 // "4,6,2^3" → values (each as parseTau); false on a bad element.
@@ -136,16 +148,16 @@ std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod) {
 // --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
 // bound, named by maxName in the message). Empty on success, else the message.
 std::string parseSpacings(const std::string& text, int maxSpacing, const std::string& maxName,
-                          std::vector<int>* out) {
+                          std::vector<int>* out, const std::string& option = "--spacings") {
   std::vector<double> v;
   if (!parseList(text, &v) || v.empty())
-    return "--spacings: expected comma-separated frame counts like 4,10,20, got '" + text + "'";
+    return option + ": expected comma-separated frame counts like 4,10,20, got '" + text + "'";
   out->clear();
   for (double d : v) {
     if (d < 1 || d != std::floor(d) || (maxSpacing > 0 && d > maxSpacing))
-      return maxSpacing > 0 ? "--spacings: expected whole numbers from 1 to " + maxName + " " +
+      return maxSpacing > 0 ? option + ": expected whole numbers from 1 to " + maxName + " " +
                                   std::to_string(maxSpacing) + ", got '" + text + "'"
-                            : "--spacings: expected whole numbers >= 1, got '" + text + "'";
+                            : option + ": expected whole numbers >= 1, got '" + text + "'";
     out->push_back(static_cast<int>(d));
   }
   return {};
@@ -614,9 +626,29 @@ int main(int argc, char** argv) {
                    "predictor says an in-between frame would fall below --target-psnr)")
       ->check(CLI::IsMember({"fixed", "adaptive"}))
       ->capture_default_str();
-  walk->add_option("--target-psnr", walkPlan.targetPsnrDb,
-                   "Adaptive schedule: lowest predicted in-between PSNR, dB (the predictor's fit "
-                   "is calibrated on the built-in indoor scene)")
+  std::string walkTarget = "24", walkCalibrate, walkUncertainty = "auto";
+  walk->add_option("--target-psnr", walkTarget,
+                   "Adaptive schedule: the in-between PSNR to reach, dB, as --plan-by says (predicted; "
+                   "the predictor's default fit comes from the built-in indoor scene at 512x512, so "
+                   "on other scenes the dB are only ordered, unless --calibrate-spacing refits it "
+                   "here), or fixed:G = the measured median of the calibration walk with keyframes "
+                   "every G frames (G is added to --calibrate-spacing)")
+      ->capture_default_str();
+  walk->add_option("--calibrate-spacing", walkCalibrate,
+                   "Adaptive schedule: first walk the path with keyframes every G frames (a "
+                   "comma-separated list, e.g. 20 or 10,20; each a full walk with reference "
+                   "frames, no output), refit the predictor to their measured in-between PSNRs, "
+                   "and plan with that fit: the target is then in measured dB of this scene, "
+                   "path and resolution. Writes calibration.csv and calibration.png. Empty = the "
+                   "default fit")
+      ->capture_default_str();
+  walk->add_option("--plan-uncertainty", walkUncertainty,
+                   "Adaptive schedule, --plan-by walk-median: the predictor's error model; each "
+                   "in-between frame counts as its probability of reaching the target instead of "
+                   "0 or 1. empirical = the calibration frames' residuals (measured - predicted) "
+                   "as the error distribution; normal = a normal error with their standard "
+                   "deviation; a number = a normal error of that standard deviation, dB (0 = the "
+                   "plain count); auto = empirical with --calibrate-spacing, else 0")
       ->capture_default_str();
   addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
   bool asyncKeyframes = false;
@@ -1557,17 +1589,104 @@ int main(int argc, char** argv) {
   if (schedule == "adaptive") {
     keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
     keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
+    // --target-psnr: dB, or fixed:G (a calibration walk's measured median).
+    int targetSpacing = 0;
+    std::vector<int> calSpacings;
+    if (!walkCalibrate.empty()) {
+      if (auto e = parseSpacings(walkCalibrate, 0, "", &calSpacings, "--calibrate-spacing"); !e.empty())
+        return fail(e);
+    }
+    if (walkTarget.rfind("fixed:", 0) == 0) {
+      const std::string g = walkTarget.substr(6);
+      char* end = nullptr;
+      const long v = g.empty() ? 0 : std::strtol(g.c_str(), &end, 10);
+      if (g.empty() || *end != '\0' || v < 2 || v > (1 << 20))
+        return fail("--target-psnr: expected a PSNR in dB or fixed:G with G a whole number of frames >= 2, "
+                    "got '" + walkTarget + "'");
+      targetSpacing = static_cast<int>(v);
+      if (std::find(calSpacings.begin(), calSpacings.end(), targetSpacing) == calSpacings.end())
+        calSpacings.push_back(targetSpacing);
+    } else if (!parseFiniteDouble(walkTarget, &walkPlan.targetPsnrDb)) {
+      return fail("--target-psnr: expected a PSNR in dB or fixed:G with G a whole number of frames >= 2, "
+                  "got '" + walkTarget + "'");
+    }
+    // --plan-uncertainty: auto/empirical/normal (from the calibration) or a
+    // standard deviation in dB.
+    double uncertaintyDb = 0;
+    const bool uncertaintyNamed =
+        walkUncertainty == "auto" || walkUncertainty == "empirical" || walkUncertainty == "normal";
+    if (!uncertaintyNamed && (!parseFiniteDouble(walkUncertainty, &uncertaintyDb) || uncertaintyDb < 0))
+      return fail("--plan-uncertainty: expected a standard deviation >= 0 in dB, auto, empirical or "
+                  "normal, got '" + walkUncertainty + "'");
+    if ((walkUncertainty == "empirical" || walkUncertainty == "normal") && calSpacings.empty())
+      return fail("--plan-uncertainty " + walkUncertainty +
+                  ": expected --calibrate-spacing or --target-psnr fixed:G (the calibration's "
+                  "residuals are its error model), got neither");
+    std::string uncertaintyModel = uncertaintyDb > 0 ? "normal" : "none";
     keyframe::RenderOptions ropt;
     ropt.depthMode = wo.depthMode;
     auto probeRenderer = keyframe::GeometryRenderer::create(in->scene, ropt);
     if (!probeRenderer) return fail(probeRenderer.error().message);
     const int frames = wo.maxFrames > 0 ? std::min(wo.maxFrames, in->path.frames) : in->path.frames;
-    auto plan = keyframe::planAdaptiveSchedule(
-        **probeRenderer, [&](int i) { return in->path.cameraAt(i); }, frames, walkPlan);
+    const auto cameraOf = [&](int i) { return in->path.cameraAt(i); };
+    keyframe::KeyframeProbe probe(**probeRenderer, cameraOf, walkPlan.probeSize, walkPlan.probeError);
+    json calibrationJ = nullptr;
+    std::string targetSource = "given";
+    for (int g : calSpacings)
+      if (g < 2 || g > frames - 1)
+        return fail(std::string(g == targetSpacing ? "--target-psnr fixed:G" : "--calibrate-spacing") +
+                    ": a calibration walk needs keyframes 2.." + std::to_string(frames - 1) +
+                    " frames apart on this " + std::to_string(frames) + "-frame walk, got " +
+                    std::to_string(g));
+    if (!calSpacings.empty()) {
+      Stopwatch calSw;
+      auto cal = bench::runCalibrationWalks(in->scene, walkC.scene, in->path, frames, calSpacings, wo,
+                                            !quiet);
+      if (!cal) return fail(cal.error().message);
+      auto fit = keyframe::calibratePredictor(probe, walkPlan.predictor, cal->samples);
+      if (!fit) return fail(fit.error().message);
+      walkPlan.useDefaultFit = false;
+      walkPlan.fit = fit->fit;
+      if (walkUncertainty == "normal") {
+        uncertaintyDb = fit->residualStdDb;
+        uncertaintyModel = "normal";
+      } else if (walkUncertainty == "empirical" || walkUncertainty == "auto") {
+        std::vector<double> residuals;
+        for (std::size_t i = 0; i < cal->samples.size(); ++i)
+          residuals.push_back(cal->samples[i].psnrDb - fit->predictedDb[i]);
+        walkPlan.error.setResiduals(std::move(residuals));
+        uncertaintyDb = fit->residualStdDb;
+        uncertaintyModel = "empirical";
+      }
+      for (const auto& w : cal->walks)
+        if (w.spacing == targetSpacing) {
+          if (!std::isfinite(w.psnrMedian))
+            return fail("--target-psnr fixed:" + std::to_string(targetSpacing) +
+                        ": the calibration walk has no finite PSNR median");
+          walkPlan.targetPsnrDb = w.psnrMedian;
+          targetSource = "fixed:" + std::to_string(targetSpacing);
+        }
+      if (auto st = ensureWritableDir(walkOut); !st) return fail(st.error().message);
+      if (auto st = bench::writeCalibration(walkOut, *cal, *fit, walkPlan.predictor); !st)
+        return fail(st.error().message);
+      calibrationJ = bench::calibrationJson(*cal, *fit);
+      calibrationJ["ms"] = calSw.ms();
+      std::fprintf(stderr, "calibrated %s on %d in-between frames: residual sd %.2f dB, Spearman %.3f",
+                   walkPredictor.c_str(), fit->samples, fit->residualStdDb, fit->spearman);
+      if (targetSpacing > 0)
+        std::fprintf(stderr, "; target %.2f dB (%s)", walkPlan.targetPsnrDb, targetSource.c_str());
+      std::fprintf(stderr, "\n");
+    }
+    if (uncertaintyModel == "normal") walkPlan.error.sigmaDb = uncertaintyDb;
+    auto plan = keyframe::planAdaptiveSchedule(probe, frames, walkPlan);
     if (!plan) return fail(plan.error().message);
     wo.keyframeFrames = plan->keyframes;
     plannerJson = {{"predictor", walkPredictor}, {"criterion", walkPlanBy},
                    {"target_psnr", walkPlan.targetPsnrDb},
+                   {"target_source", targetSource},
+                   {"uncertainty", uncertaintyModel},
+                   {"uncertainty_db", uncertaintyDb},
+                   {"calibration", calibrationJ},
                    {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
                    {"probe_size", walkPlan.probeSize},
                    {"candidate_stride", walkPlan.candidateStride},

@@ -50,50 +50,77 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
   return planKeyframes(frames, targetPsnrDb, search, predict, evaluations);
 }
 
+void PredictionError::setResiduals(std::vector<double> r) {
+  r.erase(std::remove_if(r.begin(), r.end(), [](double v) { return !std::isfinite(v); }), r.end());
+  std::sort(r.begin(), r.end());
+  residualsDb = std::move(r);
+}
+
+double PredictionError::probabilityAtLeast(double predictedDb, double targetPsnrDb) const {
+  if (std::isnan(predictedDb)) return 0;  // NaN counts as below
+  if (!residualsDb.empty()) {
+    // Fraction of residuals e with predicted + e ≥ target.
+    const double need = targetPsnrDb - predictedDb;
+    const auto it = std::lower_bound(residualsDb.begin(), residualsDb.end(), need);
+    return static_cast<double>(residualsDb.end() - it) / static_cast<double>(residualsDb.size());
+  }
+  if (!(sigmaDb > 0)) return predictedDb >= targetPsnrDb ? 1 : 0;
+  // Φ((predicted − target) / σ) = erfc(−z / √2) / 2.
+  return 0.5 * std::erfc(-(predictedDb - targetPsnrDb) / (sigmaDb * std::sqrt(2.0)));
+}
+
 std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int minGap, int maxGap,
                                           const FramePredictor& predict, long* evaluations,
-                                          int* good) {
+                                          int* good, const PredictionError* error) {
   HW_CHECK_GE(frames, 1);
   HW_CHECK_GE(minGap, 1);
   HW_CHECK_GE(maxGap, minGap);
+  const PredictionError plain;
+  const PredictionError& err = error ? *error : plain;
+  HW_CHECK(std::isfinite(err.sigmaDb) && err.sigmaDb >= 0);
   long evals = 0;
   if (evaluations) *evaluations = 0;
   if (frames < 3) return {};
   const auto un = static_cast<std::size_t>(frames), ug = static_cast<std::size_t>(maxGap);
-  // goodAt[k0·maxGap + g−1]: in-between frames of (k0, k0+g) predicted ≥ target.
-  std::vector<int> goodAt(un * ug, 0);
+  // goodAt[k0·maxGap + g−1]: in-between frames of (k0, k0+g) predicted ≥ target
+  // (with an uncertainty: the expected number reaching it). Whole numbers
+  // without one, so the sums below are exact.
+  std::vector<double> goodAt(un * ug, 0);
   for (int k0 = 0; k0 < frames; ++k0)
     for (int g = 2; g <= maxGap && k0 + g < frames; ++g) {
-      int n = 0;
+      double n = 0;
       for (int f = k0 + 1; f < k0 + g; ++f) {
         ++evals;
-        n += predict(k0, k0 + g, f) >= targetPsnrDb;  // NaN counts as below
+        n += err.probabilityAtLeast(predict(k0, k0 + g, f), targetPsnrDb);
       }
       goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] = n;
     }
   if (evaluations) *evaluations = evals;
   // prev/cur[k]: most good frames in [0, k] with c keyframes, the last at k
   // (−1: impossible); parent[(c−1)·frames + k]: the keyframe before k.
-  std::vector<int> prev(un, -1), cur(un, -1), parent(un * un, -1);
+  std::vector<double> prev(un, -1), cur(un, -1);
+  std::vector<int> parent(un * un, -1);
   prev[0] = 0;
   const int last = frames - 1;
   for (int c = 2; c <= frames; ++c) {
     std::fill(cur.begin(), cur.end(), -1);
     for (int k1 = 1; k1 < frames; ++k1) {
-      int bestV = -1, bestK = -1;
+      double bestV = -1;
+      int bestK = -1;
       const int gFrom = k1 == last ? 1 : minGap;
       for (int g = gFrom; g <= maxGap && g <= k1; ++g) {
         const int k0 = k1 - g;
-        const int p = prev[static_cast<std::size_t>(k0)];
+        const double p = prev[static_cast<std::size_t>(k0)];
         if (p < 0) continue;
-        const int v = p + (g >= 2 ? goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] : 0);
+        const double v = p + (g >= 2 ? goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] : 0);
         if (v > bestV) bestV = v, bestK = k0;
       }
       cur[static_cast<std::size_t>(k1)] = bestV;
       parent[static_cast<std::size_t>(c - 1) * un + static_cast<std::size_t>(k1)] = bestK;
     }
-    const int inBetween = frames - c, g = cur[un - 1];
-    if (inBetween >= 1 && g >= inBetween / 2 + 1) {
+    const int inBetween = frames - c;
+    const double g = cur[un - 1];
+    if (inBetween >= 1 && 2 * g > inBetween) {
       std::vector<int> keys(static_cast<std::size_t>(c), 0);
       int k = last;
       for (int i = c; i >= 1; --i) {
@@ -101,7 +128,7 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
         if (i > 1) k = parent[static_cast<std::size_t>(i - 1) * un + static_cast<std::size_t>(k)];
       }
       HW_CHECK_EQ(keys.front(), 0);
-      if (good) *good = g;
+      if (good) *good = static_cast<int>(std::floor(g));
       return keys;
     }
     std::swap(prev, cur);
@@ -118,7 +145,8 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch
   HW_CHECK_GE(search.framesPerSegment, 0);
   if (search.criterion == PlanCriterion::WalkMedian) {
     std::vector<int> keys = fewestKeyframesForMedian(frames, targetPsnrDb, search.minGap,
-                                                     search.maxGap, predict, evaluations);
+                                                     search.maxGap, predict, evaluations, nullptr,
+                                                     &search.error);
     if (!keys.empty()) return keys;
     // Unreachable: the densest schedule allowed (every minGap frames).
     for (int k = 0; k < frames - 1; k += search.minGap) keys.push_back(k);
@@ -848,6 +876,62 @@ Result<double> KeyframeProbe::composeAndCompare(int k0, int k1, int frame,
 
 // ---- the planner ----------------------------------------------------------------
 
+Result<FrameFeatures> predictorFeatures(KeyframeProbe& probe, Predictor p, int k0, int k1,
+                                        int frame) {
+  if (!isProbePredictor(p)) return probe.features(k0, k1, frame);
+  auto e = probe.probeError(k0, k1, frame);
+  if (!e) return e.error();
+  FrameFeatures ff;
+  ff.probeMse = *e;
+  if (p == Predictor::ProbePsnrDistance) {
+    auto d = probe.relDistance(k0, k1, frame);
+    if (!d) return d.error();
+    ff.relDistance = *d;
+  }
+  return ff;
+}
+
+Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor p,
+                                                const std::vector<CalibrationSample>& samples) {
+  std::vector<FrameFeatures> features;
+  std::vector<double> measured;
+  features.reserve(samples.size());
+  measured.reserve(samples.size());
+  for (const CalibrationSample& s : samples) {
+    if (!(s.k0 < s.frame && s.frame < s.k1))
+      return makeError("predictor calibration: expected k0 < frame < k1, got (" +
+                       std::to_string(s.k0) + ", " + std::to_string(s.frame) + ", " +
+                       std::to_string(s.k1) + ")");
+    auto f = predictorFeatures(probe, p, s.k0, s.k1, s.frame);
+    if (!f) return f.error();
+    features.push_back(*f);
+    measured.push_back(s.psnrDb);
+  }
+  PredictorCalibration c;
+  c.fit = fitPredictor(features, measured, p);
+  const int params = (p == Predictor::HolesDistance || p == Predictor::ProbePsnrDistance) ? 3 : 2;
+  std::vector<double> pr, me;
+  double ss = 0;
+  c.predictedDb.assign(samples.size(), std::nan(""));
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double v = predictPsnr(c.fit, features[i], p);
+    if (!std::isfinite(v) || !std::isfinite(measured[i])) continue;
+    c.predictedDb[i] = v;
+    pr.push_back(v), me.push_back(measured[i]);
+    ss += (measured[i] - v) * (measured[i] - v);
+  }
+  c.samples = static_cast<int>(pr.size());
+  if (!(std::isfinite(c.fit.intercept) && std::isfinite(c.fit.slope) &&
+        std::isfinite(c.fit.slope2)) ||
+      c.samples <= params)
+    return makeError("predictor calibration (" + std::string(predictorName(p)) + "): expected more than " +
+                     std::to_string(params) + " measured in-between frames with distinct predictor "
+                     "values, got " + std::to_string(samples.size()) + " frames that do not determine a fit");
+  c.residualStdDb = std::sqrt(ss / (c.samples - params));
+  c.spearman = spearman(pr, me);
+  return c;
+}
+
 Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
                                         const std::function<Camera(int)>& cameraOf, int frames,
                                         const PlannerOptions& opt) {
@@ -876,6 +960,12 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   if (!std::isfinite(opt.targetPsnrDb))
     return makeError("keyframe planner: target PSNR must be finite");
   if (frames < 1) return makeError("keyframe planner: no frames to plan");
+  if (!(std::isfinite(opt.error.sigmaDb) && opt.error.sigmaDb >= 0))
+    return makeError("keyframe planner: expected an uncertainty >= 0 dB, got " +
+                     std::to_string(opt.error.sigmaDb));
+  if (!opt.useDefaultFit && !(std::isfinite(opt.fit.intercept) && std::isfinite(opt.fit.slope) &&
+                              std::isfinite(opt.fit.slope2)))
+    return makeError("keyframe planner: the predictor's fit has a non-finite coefficient");
   if (opt.candidateStride < 1 || opt.framesPerSegment < 0)
     return makeError("keyframe planner: candidate stride must be >= 1 and frames per segment >= 0");
   Stopwatch sw;
@@ -886,25 +976,7 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   Status failure;
   auto predict = [&](int k0, int k1, int i) {
     if (!failure.ok()) return -std::numeric_limits<double>::infinity();
-    if (isProbePredictor(opt.predictor)) {
-      auto e = probe.probeError(k0, k1, i);
-      if (!e) {
-        failure = e.error();
-        return -std::numeric_limits<double>::infinity();
-      }
-      FrameFeatures ff;
-      ff.probeMse = *e;
-      if (opt.predictor == Predictor::ProbePsnrDistance) {
-        auto d = probe.relDistance(k0, k1, i);
-        if (!d) {
-          failure = d.error();
-          return -std::numeric_limits<double>::infinity();
-        }
-        ff.relDistance = *d;
-      }
-      return predictPsnr(r.fit, ff, opt.predictor);
-    }
-    auto f = probe.features(k0, k1, i);
+    auto f = predictorFeatures(probe, opt.predictor, k0, k1, i);
     if (!f) {
       failure = f.error();
       return -std::numeric_limits<double>::infinity();
@@ -917,6 +989,7 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   search.criterion = opt.criterion;
   search.candidateStride = opt.candidateStride;
   search.framesPerSegment = opt.framesPerSegment;
+  search.error = opt.error;
   r.keyframes = planKeyframes(frames, opt.targetPsnrDb, search, predict, &r.evaluations);
   if (!failure.ok()) return failure.error();
   r.planMs = sw.ms();

@@ -72,9 +72,33 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, int minGap, int 
 // predicted ≥ target. Empty when no schedule reaches it (at least one
 // in-between frame is required). `good` (optional): frames ≥ target.
 // Preconditions (checked): frames ≥ 1, 1 ≤ minGap ≤ maxGap.
+// `error`: how far measured PSNRs fall from predicted ones. Unless none(),
+// each frame counts as its probability of reaching the target
+// (PredictionError::probabilityAtLeast), and the expected number must exceed
+// half (`good`: that expectation, rounded down). The plain count rewards
+// schedules whose median frame is predicted just above the target, which the
+// predictor's errors then put below it about half the time; the expected
+// count does not.
+struct PredictionError;
 std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int minGap, int maxGap,
                                           const FramePredictor& predict,
-                                          long* evaluations = nullptr, int* good = nullptr);
+                                          long* evaluations = nullptr, int* good = nullptr,
+                                          const PredictionError* error = nullptr);
+
+// The predictor's error model for the walk-median plan: measured = predicted
+// + e, with e either normal with standard deviation sigmaDb, or distributed
+// as the calibration frames' residuals (measured − predicted), when given:
+// their empirical distribution keeps the skew and heavy tails a normal
+// misses. Neither: the plain count (predicted ≥ target).
+struct PredictionError {
+  double sigmaDb = 0;                // ≥ 0; used when residualsDb is empty
+  std::vector<double> residualsDb;   // sorted ascending (setResiduals sorts)
+  bool none() const { return residualsDb.empty() && !(sigmaDb > 0); }
+  void setResiduals(std::vector<double> r);  // non-finite values dropped
+  // P(predicted + e ≥ target): Φ((predicted − target) / σ), or the fraction
+  // of residuals ≥ target − predicted; with neither 1 or 0. NaN → 0.
+  double probabilityAtLeast(double predictedDb, double targetPsnrDb) const;
+};
 
 // The same with the search made cheaper: candidates for the next keyframe
 // every candidateStride frames (from k + minGap; k + maxGap and the last frame
@@ -87,6 +111,7 @@ struct PlanSearch {
   PlanCriterion criterion = PlanCriterion::WorstFrame;
   int candidateStride = 1;   // ≥ 1
   int framesPerSegment = 0;  // ≥ 0
+  PredictionError error;  // WalkMedian only: see fewestKeyframesForMedian
 };
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch& search,
                                const FramePredictor& predict, long* evaluations = nullptr);
@@ -279,6 +304,7 @@ struct PlannerOptions {
   ProbeErrorOptions probeError;  // probe-psnr only
   int candidateStride = 1;    // see PlanSearch
   int framesPerSegment = 0;   // see PlanSearch (0 = every in-between frame)
+  PredictionError error;      // walk-median: the predictor's error (see PlanSearch)
 };
 
 struct PlanResult {
@@ -289,6 +315,36 @@ struct PlanResult {
   long evaluations = 0;        // predictor calls
   PsnrFit fit;                 // the fit used
 };
+
+// The features predictor `p` reads for (k0, k1, frame): probeMse (and
+// relDistance) alone for the probe predictors, KeyframeProbe::features()
+// for the others.
+Result<FrameFeatures> predictorFeatures(KeyframeProbe& probe, Predictor p, int k0, int k1,
+                                        int frame);
+
+// ---- calibration on the scene itself ----------------------------------------
+
+// A measured in-between frame: the PSNR (dB, against the geometry renderer)
+// of `frame` warped from keyframes k0 < frame < k1 at full resolution.
+struct CalibrationSample {
+  int k0 = 0, k1 = 0, frame = 0;
+  double psnrDb = 0;
+};
+// The predictor refitted to measured frames of this scene, path and
+// resolution (the default fits come from one scene at 512², where a target's
+// dB do not carry over to another scene: see defaultFit).
+struct PredictorCalibration {
+  PsnrFit fit;
+  double residualStdDb = 0;  // of measured − predicted, n − (regressors + 1) dof
+  double spearman = 0;       // rank correlation, predicted vs measured
+  int samples = 0;           // used (finite)
+  std::vector<double> predictedDb;  // per input sample, with `fit` (NaN when not finite)
+};
+// Least squares of the predictor's regressors on `samples`. Errors: probe
+// failures, and too few usable samples or regressor values too alike to fit
+// (what was got is said).
+Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor p,
+                                                const std::vector<CalibrationSample>& samples);
 
 // Plans an error-driven schedule for `frames` frames of a path. A GL context
 // must be current; `renderer` draws the probes (its scene is the walk's).

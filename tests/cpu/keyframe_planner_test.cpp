@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -293,6 +294,124 @@ TEST(KeyframePlanner, WalkMedianIsTheFewestKeyframesOverEverySchedule) {
   ASSERT_TRUE(parsePlanCriterion("walk-median", &c));
   EXPECT_EQ(c, PlanCriterion::WalkMedian);
   EXPECT_STREQ(planCriterionName(c), "walk-median");
+}
+
+// With an uncertainty each frame counts as P(measured >= target) under a
+// normal error; the DP is still the fewest keyframes, now of expected counts,
+// checked against every schedule of a short path.
+TEST(KeyframePlanner, WalkMedianWithUncertaintyIsTheFewestOverEveryScheduleOfExpectedCounts) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(20.0, 40.0);
+  for (int trial = 0; trial < 24; ++trial) {
+    const int frames = 7 + trial % 6, minGap = 1 + trial % 2, maxGap = minGap + 2 + trial % 3;
+    const double sigma = 0.5 + (trial % 4);
+    // Normal errors on even trials, an empirical (skewed) residual set on odd.
+    PredictionError err;
+    if (trial % 2 == 0) {
+      err.sigmaDb = sigma;
+    } else {
+      err.setResiduals({-3 * sigma, -sigma, -0.5, 0.0, 0.2, 0.4, sigma, 1.5 * sigma});
+    }
+    std::vector<double> table(static_cast<std::size_t>(frames * frames * frames));
+    for (double& v : table) v = u(rng);
+    const FramePredictor predict = [&](int k0, int k1, int f) {
+      return table[static_cast<std::size_t>((k0 * frames + k1) * frames + f)];
+    };
+    for (double target : {26.0, 30.0, 34.0}) {
+      int best = 0;
+      for (unsigned mask = 0; mask < (1u << (frames - 2)); ++mask) {
+        std::vector<int> keys{0};
+        for (int i = 1; i < frames - 1; ++i)
+          if (mask & (1u << (i - 1))) keys.push_back(i);
+        keys.push_back(frames - 1);
+        bool ok = true;
+        double expected = 0;  // summed per segment, in the DP's order (exact ties agree)
+        for (std::size_t j = 1; j < keys.size() && ok; ++j) {
+          const int gap = keys[j] - keys[j - 1];
+          if (gap > maxGap || (gap < minGap && j + 1 < keys.size())) ok = false;
+          double segment = 0;
+          for (int f = keys[j - 1] + 1; ok && f < keys[j]; ++f)
+            segment += err.probabilityAtLeast(predict(keys[j - 1], keys[j], f), target);
+          expected += segment;
+        }
+        const int inBetween = frames - static_cast<int>(keys.size());
+        if (ok && inBetween >= 1 && 2 * expected > inBetween &&
+            (best == 0 || static_cast<int>(keys.size()) < best))
+          best = static_cast<int>(keys.size());
+      }
+      int good = -1;
+      const std::vector<int> dp =
+          fewestKeyframesForMedian(frames, target, minGap, maxGap, predict, nullptr, &good, &err);
+      ASSERT_EQ(static_cast<int>(dp.size()), best)
+          << frames << " " << minGap << " " << maxGap << " " << target << " sigma " << sigma;
+      if (best > 0) {
+        expectValidSchedule(dp, frames, minGap, maxGap);
+        EXPECT_GE(2 * good + 1, frames - best) << "expected count rounded down";
+      }
+    }
+  }
+}
+
+// A schedule whose frames are all predicted exactly at the target passes the
+// plain count (>= target), though each reaches it only half the time under
+// any symmetric error; with an uncertainty the planner takes the denser
+// schedule whose frames clear the target by a margin.
+TEST(KeyframePlanner, AnUncertaintyRefusesAMedianPredictedJustAtTheTarget) {
+  const double target = 30;
+  const FramePredictor predict = [&](int k0, int k1, int) {
+    return k1 - k0 <= 5 ? target + 3.0 : k1 - k0 <= 10 ? target : target - 10.0;
+  };
+  const std::vector<int> plain = fewestKeyframesForMedian(101, target, 2, 20, predict);
+  PredictionError one;
+  one.sigmaDb = 1.0;
+  const std::vector<int> soft = fewestKeyframesForMedian(101, target, 2, 20, predict, nullptr, nullptr, &one);
+  ASSERT_FALSE(plain.empty());
+  ASSERT_FALSE(soft.empty());
+  EXPECT_GT(soft.size(), plain.size());
+  // Under a 1 dB error the plain plan's frames reach the target less than
+  // half the time in expectation; the soft plan's more than half.
+  auto expectedShare = [&](const std::vector<int>& keys) {
+    double n = 0;
+    int all = 0;
+    for (std::size_t j = 1; j < keys.size(); ++j)
+      for (int f = keys[j - 1] + 1; f < keys[j]; ++f)
+        ++all, n += one.probabilityAtLeast(predict(keys[j - 1], keys[j], f), target);
+    return n / all;
+  };
+  EXPECT_LE(expectedShare(plain), 0.5);
+  EXPECT_GT(expectedShare(soft), 0.5);
+  // A tiny uncertainty where every frame clears the target by 3 dB changes nothing.
+  PredictionError tiny;
+  tiny.sigmaDb = 0.1;
+  const FramePredictor clear = [&](int k0, int k1, int) { return k1 - k0 <= 10 ? target + 3.0 : target - 10.0; };
+  EXPECT_EQ(fewestKeyframesForMedian(101, target, 2, 20, clear),
+            fewestKeyframesForMedian(101, target, 2, 20, clear, nullptr, nullptr, &tiny));
+}
+
+TEST(KeyframePlanner, ProbabilityOfReachingTheTarget) {
+  PredictionError none, normal, emp;
+  normal.sigmaDb = 2.0;
+  EXPECT_TRUE(none.none());
+  EXPECT_EQ(none.probabilityAtLeast(30.0, 30.0), 1.0);
+  EXPECT_EQ(none.probabilityAtLeast(29.99, 30.0), 0.0);
+  EXPECT_NEAR(normal.probabilityAtLeast(30.0, 30.0), 0.5, 1e-12);
+  EXPECT_NEAR(normal.probabilityAtLeast(32.0, 30.0), 0.841344746, 1e-8);  // Φ(1)
+  EXPECT_NEAR(normal.probabilityAtLeast(28.0, 30.0), 0.158655254, 1e-8);  // Φ(−1)
+  EXPECT_EQ(normal.probabilityAtLeast(std::nan(""), 30.0), 0.0);
+  EXPECT_EQ(none.probabilityAtLeast(std::nan(""), 30.0), 0.0);
+  EXPECT_EQ(normal.probabilityAtLeast(std::numeric_limits<double>::infinity(), 30.0), 1.0);
+  // Empirical: residuals {−4, −1, 0, 0.5, 1} (NaN dropped, sorted); a frame
+  // predicted 0.5 dB above the target reaches it when e ≥ −0.5: 3 of 5.
+  emp.setResiduals({1.0, -1.0, std::nan(""), 0.5, -4.0, 0.0});
+  EXPECT_FALSE(emp.none());
+  ASSERT_EQ(emp.residualsDb.size(), 5u);
+  EXPECT_EQ(emp.residualsDb.front(), -4.0);
+  EXPECT_DOUBLE_EQ(emp.probabilityAtLeast(30.5, 30.0), 0.6);
+  EXPECT_DOUBLE_EQ(emp.probabilityAtLeast(30.0, 30.0), 0.6);   // e ≥ 0: 0, 0.5, 1
+  EXPECT_DOUBLE_EQ(emp.probabilityAtLeast(31.0, 30.0), 0.8);   // e ≥ −1
+  EXPECT_DOUBLE_EQ(emp.probabilityAtLeast(25.0, 30.0), 0.0);   // e ≥ 5: none
+  EXPECT_DOUBLE_EQ(emp.probabilityAtLeast(40.0, 30.0), 1.0);
+  EXPECT_EQ(emp.probabilityAtLeast(std::nan(""), 30.0), 0.0);
 }
 
 }  // namespace

@@ -191,5 +191,44 @@ TEST(KeyframeProbePsnr, PlansAndAStricterTargetNeverUsesFewerKeyframes) {
   EXPECT_NE(bad.error().message.find("supersample"), std::string::npos);
 }
 
+// Refitting the predictor to measured frames (the walk's --calibrate-spacing):
+// "measured" PSNRs made from the probe's own regressor with a known line and
+// ±0.5 dB of alternating noise give back that line, a 0.5 dB spread and a
+// rank correlation near 1; too few frames or a frame outside its keyframes
+// are errors that say so.
+TEST(KeyframeProbePsnr, CalibrationRecoversTheLineAndItsSpread) {
+  RayCastRenderer r;
+  KeyframeProbe probe(r, cameraOf, 64);
+  std::vector<CalibrationSample> samples;
+  for (int g : {4, 8})
+    for (int k0 = 0; k0 + g <= 40; k0 += g)
+      for (int f = k0 + 1; f < k0 + g; ++f) {
+        auto e = probe.probeError(k0, k0 + g, f);
+        ASSERT_TRUE(e.ok()) << e.error().message;
+        const double noise = (samples.size() % 2 == 0) ? 0.5 : -0.5;
+        samples.push_back({k0, k0 + g, f, 30.0 - 6.0 * std::log10(*e + 1e-2) + noise});
+      }
+  auto c = calibratePredictor(probe, Predictor::ProbePsnr, samples);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_EQ(c->samples, static_cast<int>(samples.size()));
+  EXPECT_NEAR(c->fit.slope, -6.0, 0.3);
+  EXPECT_NEAR(c->fit.intercept, 30.0, 0.6);
+  EXPECT_NEAR(c->residualStdDb, 0.5, 0.05);
+  EXPECT_GT(c->spearman, 0.9);
+  ASSERT_EQ(c->predictedDb.size(), samples.size());
+  EXPECT_NEAR(c->predictedDb[0], samples[0].psnrDb, 1.5);
+  // Two regressors: distance is a second, independent term here.
+  auto c2 = calibratePredictor(probe, Predictor::ProbePsnrDistance, samples);
+  ASSERT_TRUE(c2.ok()) << c2.error().message;
+  EXPECT_LE(c2->residualStdDb, c->residualStdDb + 0.02);
+  // Too few frames to fit.
+  auto few = calibratePredictor(probe, Predictor::ProbePsnr, {samples[0], samples[1]});
+  ASSERT_FALSE(few.ok());
+  EXPECT_NE(few.error().message.find("expected more than 2"), std::string::npos) << few.error().message;
+  auto outside = calibratePredictor(probe, Predictor::ProbePsnr, {{5, 10, 12, 30.0}});
+  ASSERT_FALSE(outside.ok());
+  EXPECT_NE(outside.error().message.find("k0 < frame < k1"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace hw::keyframe

@@ -1,0 +1,63 @@
+#pragma once
+// Calibrating the keyframe planner's predictor on the scene it plans for
+// (issue #8). The predictor's default fits come from the built-in indoor
+// scene; on another scene or resolution the same predicted dB mean other
+// measured dB (oa_dm5 at 512²: a target of 33.25 dB predicted gave a 29.3 dB
+// median). Fixed-schedule walks of the same path, scene and pipeline options
+// measure the in-between frames' PSNR against the geometry renderer; the
+// predictor is refitted to them, so the planner's target is in measured dB,
+// and the fit's residual spread is the planner's uncertainty.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/walk.h"
+#include "core/result.h"
+#include "keyframe/keyframe_planner.h"
+#include "scenes/camera_path.h"
+#include "scenes/scene.h"
+
+namespace hw::bench {
+
+// One calibration walk: keyframes every `spacing` frames (0 and the last
+// frame always), its in-between frames' PSNR median (as the walk report
+// computes it) and how many there were.
+struct CalibrationWalk {
+  int spacing = 0;
+  int keyframes = 0;
+  int inBetween = 0;
+  double psnrMedian = 0;  // dB; NaN when no frame had a finite PSNR
+  double walkMs = 0;
+};
+
+struct ScheduleCalibration {
+  std::vector<CalibrationWalk> walks;  // in the order of the spacings
+  // Every in-between frame of every walk (a frame in several walks appears
+  // once per walk); spacing[i] is the walk samples[i] came from.
+  std::vector<keyframe::CalibrationSample> samples;
+  std::vector<int> spacing;
+};
+
+// Walks the first `frames` frames of `path` once per spacing (each in
+// [2, frames − 1], checked: at least one in-between frame) with `base`'s
+// pipeline options. Output, frame budget, async keyframes and keyframe
+// sources are turned off (a budget's refreshes depend on timing; the
+// predictor models the warp). A GL context must be current.
+Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
+                                                const std::string& sceneLabel,
+                                                const scenes::CameraPath& path, int frames,
+                                                const std::vector<int>& spacings,
+                                                const WalkOptions& base, bool progress);
+
+// calibration.csv (spacing,k0,k1,frame,psnr,predicted) and calibration.png
+// (predicted vs measured, one colour per walk, the line measured = predicted)
+// into outDir, atomically.
+Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
+                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor);
+
+// The report's summary.planner.calibration block.
+nlohmann::json calibrationJson(const ScheduleCalibration& cal,
+                               const keyframe::PredictorCalibration& fit);
+
+}  // namespace hw::bench

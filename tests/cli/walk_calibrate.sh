@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The planner calibrated on the scene (issue #8): walk --calibrate-spacing
+# walks fixed schedules first, refits the predictor to their measured PSNRs
+# and plans with it; --target-psnr fixed:G takes a calibration walk's median.
+# Checked against the walk itself: the calibration walk every 10 frames has
+# the median of the ordinary fixed walk (the built-in path's keyframe_every
+# is 10), the report's residual spread is the CSV's, and the planner's
+# uncertainty is that spread unless given.
+# Usage: walk_calibrate.sh HYBRIDWALK SOURCE_DIR
+source "$(dirname "$0")/lib.bash"
+common=(--scene indoor:20k --frames 40 --strips 0 --quiet)
+"$hw" walk "${common[@]}" --out "$tmp/fixed" >"$tmp/fixed.out" 2>&1
+rc=$?; check "fixed walk exits 0 ($(tail -2 "$tmp/fixed.out"))" test $rc -eq 0
+plan=(--schedule adaptive --plan-by walk-median --predictor probe-psnr --max-gap 12)
+"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 \
+  --out "$tmp/cal" >"$tmp/cal.out" 2>"$tmp/cal.err"
+rc=$?; check "calibrated walk exits 0 ($(tail -2 "$tmp/cal.err"))" test $rc -eq 0
+check "calibration.csv written" test -s "$tmp/cal/calibration.csv"
+check "calibration.png written" test -s "$tmp/cal/calibration.png"
+check "stderr reports the calibration" grep -q "calibrated probe-psnr on .* in-between frames: residual sd" "$tmp/cal.err"
+"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr 30 --plan-uncertainty 0 \
+  --out "$tmp/u0" >"$tmp/u0.out" 2>&1
+rc=$?; check "calibrated walk with --plan-uncertainty 0 exits 0" test $rc -eq 0
+"$hw" walk "${common[@]}" "${plan[@]}" --target-psnr 30 --out "$tmp/plain" >"$tmp/plain.out" 2>&1
+rc=$?; check "uncalibrated walk exits 0" test $rc -eq 0
+python3 - "$tmp" <<'PY'
+import csv, json, math, sys
+t = sys.argv[1]
+fixed = json.load(open(t + "/fixed/report.json"))["summary"]
+s = json.load(open(t + "/cal/report.json"))["summary"]
+p = s["planner"]
+c = p["calibration"]
+bad = []
+def expect(cond, what):
+    if not cond: bad.append(what)
+walks = {w["spacing"]: w for w in c["walks"]}
+expect(sorted(walks) == [6, 10], "walks every 6 and 10 frames, got %s" % sorted(walks))
+expect(walks[10]["keyframes"] == fixed["keyframes"], "every-10 walk has the fixed walk's keyframes")
+expect(abs(walks[10]["psnr_median"] - fixed["psnr"]["median"]) < 1e-9,
+       "every-10 median %s = fixed walk's %s" % (walks[10]["psnr_median"], fixed["psnr"]["median"]))
+expect(p["target_psnr"] == walks[10]["psnr_median"], "target = the every-10 median")
+expect(p["target_source"] == "fixed:10", "target_source fixed:10, got %s" % p["target_source"])
+rows = list(csv.DictReader(open(t + "/cal/calibration.csv")))
+expect(len(rows) == c["samples"] == sum(w["in_between"] for w in c["walks"]),
+       "CSV rows %d = samples %d = in-between frames" % (len(rows), c["samples"]))
+expect(all(int(r["k0"]) < int(r["frame"]) < int(r["k1"]) for r in rows), "k0 < frame < k1")
+expect(all(int(r["k1"]) - int(r["k0"]) <= int(r["spacing"]) for r in rows), "segments within the spacing")
+res = [float(r["psnr"]) - float(r["predicted"]) for r in rows]
+sd = math.sqrt(sum(x * x for x in res) / (len(res) - 2))  # probe-psnr: 2 coefficients
+expect(abs(sd - c["residual_std_db"]) < 1e-3, "residual sd from the CSV %.4f = report %.4f" % (sd, c["residual_std_db"]))
+expect(abs(sum(res) / len(res)) < 1e-3, "least squares: residuals average 0 (%.5f)" % (sum(res) / len(res)))
+expect(p["uncertainty_db"] == c["residual_std_db"], "auto uncertainty = the residual sd")
+expect(p["fit"]["slope"] < 0, "a larger probe error predicts a lower PSNR (slope %s)" % p["fit"]["slope"])
+u0 = json.load(open(t + "/u0/report.json"))["summary"]["planner"]
+expect(u0["uncertainty_db"] == 0 and u0["target_source"] == "given" and u0["target_psnr"] == 30,
+       "--plan-uncertainty 0 and a given target recorded")
+plain = json.load(open(t + "/plain/report.json"))["summary"]["planner"]
+expect(plain["calibration"] is None and plain["uncertainty_db"] == 0, "no calibration: null, uncertainty 0")
+expect(plain["fit"]["intercept"] != p["fit"]["intercept"], "the refit differs from the default fit")
+k = s["keyframe_frames"]
+expect(k[0] == 0 and k[-1] == 39 and all(2 <= b - a <= 12 for a, b in zip(k, k[1:-1])), "gaps within 2..12")
+for b in bad: print("FAIL", b)
+sys.exit(1 if bad else 0)
+PY
+rc=$?; check "report, CSV and fixed walk agree" test $rc -eq 0
+finish
