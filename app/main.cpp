@@ -1586,6 +1586,8 @@ int main(int argc, char** argv) {
   if (!walkKeyframes.empty() && schedule == "adaptive")
     return fail("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
   json plannerJson;
+  std::vector<bench::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
+  double plannedTarget = 0;
   if (schedule == "adaptive") {
     keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
     keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
@@ -1681,6 +1683,10 @@ int main(int argc, char** argv) {
     auto plan = keyframe::planAdaptiveSchedule(probe, frames, walkPlan);
     if (!plan) return fail(plan.error().message);
     wo.keyframeFrames = plan->keyframes;
+    auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, plan->keyframes);
+    if (!predicted) return fail(predicted.error().message);
+    plannedFrames = std::move(*predicted);
+    plannedTarget = walkPlan.targetPsnrDb;
     plannerJson = {{"predictor", walkPredictor}, {"criterion", walkPlanBy},
                    {"target_psnr", walkPlan.targetPsnrDb},
                    {"target_source", targetSource},
@@ -1707,6 +1713,10 @@ int main(int argc, char** argv) {
     json report = json::parse(*text, nullptr, false);
     if (report.is_discarded()) return fail("cannot parse " + walkOut + "/report.json");
     report["summary"]["keyframe_schedule"] = "adaptive";
+    auto predMedian = bench::writePlannedFrames(walkOut, plannedFrames, report["frames"], plannedTarget,
+                                                report["summary"]["keyframe_frames"].get<std::vector<int>>());
+    if (!predMedian) return fail(predMedian.error().message);
+    plannerJson["predicted_psnr_median"] = std::isfinite(*predMedian) ? json(*predMedian) : json(nullptr);
     report["summary"]["planner"] = plannerJson;
     if (auto st = writeFileAtomic(walkOut + "/report.json", report.dump(1)); !st)
       return fail(st.error().message);

@@ -114,6 +114,79 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
   return writePlot(outDir + "/calibration.png", series, po);
 }
 
+Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
+                                                  keyframe::Predictor predictor,
+                                                  const keyframe::PsnrFit& fit,
+                                                  const std::vector<int>& keyframes) {
+  std::vector<PlannedFrame> out;
+  for (std::size_t j = 1; j < keyframes.size(); ++j)
+    for (int f = keyframes[j - 1] + 1; f < keyframes[j]; ++f) {
+      auto ff = keyframe::predictorFeatures(probe, predictor, keyframes[j - 1], keyframes[j], f);
+      if (!ff) return ff.error();
+      out.push_back({f, keyframes[j - 1], keyframes[j], keyframe::predictPsnr(fit, *ff, predictor)});
+    }
+  return out;
+}
+
+Result<double> writePlannedFrames(const std::string& outDir, const std::vector<PlannedFrame>& planned,
+                                  const json& reportFrames, double targetDb,
+                                  const std::vector<int>& keyframes) {
+  std::vector<double> measuredAt;  // by frame index; NaN where not in the report
+  for (const json& f : reportFrames) {
+    const int i = f["index"].get<int>();
+    if (i < 0) continue;
+    if (static_cast<std::size_t>(i) >= measuredAt.size())
+      measuredAt.resize(static_cast<std::size_t>(i) + 1, std::nan(""));
+    measuredAt[static_cast<std::size_t>(i)] = f["psnr"].is_number() ? f["psnr"].get<double>() : 99.0;
+  }
+  std::string csv = "frame,k0,k1,predicted,measured\n";
+  char line[160];
+  Series pred, meas, keys, target;
+  pred.label = "predicted (planner)";
+  meas.label = "measured (walk)";
+  keys.label = "keyframes";
+  target.label = "target";
+  pred.markers = meas.markers = false;
+  keys.lines = false;
+  target.markers = false;
+  target.colour = Rgba8{90, 90, 90, 255};
+  std::vector<double> predicted;
+  int lastFrame = 0;
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    const PlannedFrame& p = planned[i];
+    const double m = static_cast<std::size_t>(p.frame) < measuredAt.size()
+                         ? measuredAt[static_cast<std::size_t>(p.frame)]
+                         : std::nan("");
+    std::snprintf(line, sizeof line, "%d,%d,%d,%.4f,%.4f\n", p.frame, p.k0, p.k1, p.predictedDb, m);
+    csv += line;
+    // A segment's line ends at its keyframe (a NaN point breaks it).
+    if (i > 0 && planned[i - 1].k1 != p.k1) {
+      pred.x.push_back(std::nan("")), pred.y.push_back(std::nan(""));
+      meas.x.push_back(std::nan("")), meas.y.push_back(std::nan(""));
+    }
+    pred.x.push_back(p.frame), pred.y.push_back(p.predictedDb);
+    meas.x.push_back(p.frame), meas.y.push_back(m < 99.0 ? m : std::nan(""));
+    if (std::isfinite(p.predictedDb)) predicted.push_back(p.predictedDb);
+    lastFrame = std::max(lastFrame, p.k1);
+  }
+  if (auto st = writeFileAtomic(outDir + "/planned.csv", csv); !st) return st.error();
+  for (int k : keyframes) keys.x.push_back(k), keys.y.push_back(targetDb);
+  target.x = {0.0, static_cast<double>(lastFrame)};
+  target.y = {targetDb, targetDb};
+  PlotOptions po;
+  po.width = 1000;
+  po.height = 420;
+  po.title = "planned schedule: " + std::to_string(keyframes.size()) +
+             " keyframes; in-between PSNR predicted by the planner vs measured by the walk";
+  po.xLabel = "frame";
+  po.yLabel = "PSNR, dB";
+  if (auto st = writePlot(outDir + "/planned.png", {meas, pred, target, keys}, po); !st) return st.error();
+  if (predicted.empty()) return std::nan("");
+  std::sort(predicted.begin(), predicted.end());
+  const std::size_t n = predicted.size();
+  return n % 2 ? predicted[n / 2] : 0.5 * (predicted[n / 2 - 1] + predicted[n / 2]);
+}
+
 json calibrationJson(const ScheduleCalibration& cal, const keyframe::PredictorCalibration& fit) {
   json walks = json::array();
   for (const CalibrationWalk& w : cal.walks)

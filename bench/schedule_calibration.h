@@ -56,6 +56,25 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
                         const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor);
 
+// The planned schedule against the walk that ran it: every in-between frame's
+// predicted PSNR (the planner's fit) and measured PSNR (the walk report's
+// frames[].psnr; identical frames count 99 dB, as the walk's stats).
+struct PlannedFrame {
+  int frame = 0, k0 = 0, k1 = 0;
+  double predictedDb = 0;
+};
+// Predictions of every in-between frame of `keyframes` (sorted, first 0).
+Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
+                                                  keyframe::Predictor predictor,
+                                                  const keyframe::PsnrFit& fit,
+                                                  const std::vector<int>& keyframes);
+// planned.csv (frame,k0,k1,predicted,measured) and planned.png (both along
+// the path, the target and the keyframes) into outDir; returns the median
+// predicted PSNR of the in-between frames (NaN when there are none).
+Result<double> writePlannedFrames(const std::string& outDir, const std::vector<PlannedFrame>& planned,
+                                  const nlohmann::json& reportFrames, double targetDb,
+                                  const std::vector<int>& keyframes);
+
 // The report's summary.planner.calibration block.
 nlohmann::json calibrationJson(const ScheduleCalibration& cal,
                                const keyframe::PredictorCalibration& fit);

@@ -17,6 +17,7 @@ plan=(--schedule adaptive --plan-by walk-median --predictor probe-psnr --max-gap
 rc=$?; check "calibrated walk exits 0 ($(tail -2 "$tmp/cal.err"))" test $rc -eq 0
 check "calibration.csv written" test -s "$tmp/cal/calibration.csv"
 check "calibration.png written" test -s "$tmp/cal/calibration.png"
+check "planned.png written" test -s "$tmp/cal/planned.png"
 check "stderr reports the calibration" grep -q "calibrated probe-psnr on .* in-between frames: residual sd" "$tmp/cal.err"
 "$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr 30 --plan-uncertainty 0 \
   --out "$tmp/u0" >"$tmp/u0.out" 2>&1
@@ -49,13 +50,25 @@ res = [float(r["psnr"]) - float(r["predicted"]) for r in rows]
 sd = math.sqrt(sum(x * x for x in res) / (len(res) - 2))  # probe-psnr: 2 coefficients
 expect(abs(sd - c["residual_std_db"]) < 1e-3, "residual sd from the CSV %.4f = report %.4f" % (sd, c["residual_std_db"]))
 expect(abs(sum(res) / len(res)) < 1e-3, "least squares: residuals average 0 (%.5f)" % (sum(res) / len(res)))
-expect(p["uncertainty_db"] == c["residual_std_db"], "auto uncertainty = the residual sd")
+expect(p["uncertainty"] == "empirical" and p["uncertainty_db"] == c["residual_std_db"],
+       "auto uncertainty: the calibration's residuals (%s)" % p["uncertainty"])
+# planned.csv: every in-between frame of the schedule, measured = the report's.
+frames = {f["index"]: f for f in json.load(open(t + "/cal/report.json"))["frames"]}
+pl = list(csv.DictReader(open(t + "/cal/planned.csv")))
+k = s["keyframe_frames"]
+expect([int(r["frame"]) for r in pl] == [f for a, b in zip(k, k[1:]) for f in range(a + 1, b)],
+       "planned.csv lists every in-between frame of the schedule")
+expect(all(abs(float(r["measured"]) - frames[int(r["frame"])]["psnr"]) < 1e-3 for r in pl),
+       "planned.csv measured = the report's frame PSNR")
+pm = sorted(float(r["predicted"]) for r in pl)
+med = pm[len(pm) // 2] if len(pm) % 2 else 0.5 * (pm[len(pm) // 2 - 1] + pm[len(pm) // 2])
+expect(abs(med - p["predicted_psnr_median"]) < 1e-3, "predicted median %.4f = report %.4f" % (med, p["predicted_psnr_median"]))
 expect(p["fit"]["slope"] < 0, "a larger probe error predicts a lower PSNR (slope %s)" % p["fit"]["slope"])
 u0 = json.load(open(t + "/u0/report.json"))["summary"]["planner"]
-expect(u0["uncertainty_db"] == 0 and u0["target_source"] == "given" and u0["target_psnr"] == 30,
+expect(u0["uncertainty"] == "none" and u0["uncertainty_db"] == 0 and u0["target_source"] == "given" and u0["target_psnr"] == 30,
        "--plan-uncertainty 0 and a given target recorded")
 plain = json.load(open(t + "/plain/report.json"))["summary"]["planner"]
-expect(plain["calibration"] is None and plain["uncertainty_db"] == 0, "no calibration: null, uncertainty 0")
+expect(plain["calibration"] is None and plain["uncertainty"] == "none" and plain["uncertainty_db"] == 0, "no calibration: null, uncertainty 0")
 expect(plain["fit"]["intercept"] != p["fit"]["intercept"], "the refit differs from the default fit")
 k = s["keyframe_frames"]
 expect(k[0] == 0 and k[-1] == 39 and all(2 <= b - a <= 12 for a, b in zip(k, k[1:-1])), "gaps within 2..12")
