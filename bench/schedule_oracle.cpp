@@ -8,6 +8,7 @@
 #include <optional>
 #include <utility>
 
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "core/check.h"
 #include "core/file_io.h"
@@ -134,8 +135,6 @@ std::string exact(double v) {  // round-trips through %lf
   std::snprintf(b, sizeof b, "%.17g", v);
   return b;
 }
-
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string fmt(double v, int digits = 3) {
   if (!std::isfinite(v)) return "";

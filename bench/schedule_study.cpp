@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -19,7 +20,6 @@ using keyframe::Predictor;
 using nlohmann::json;
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 // Per in-between frame of a walk: its bracketing keyframes and measured PSNR.
 struct FrameSample {
