@@ -8,6 +8,7 @@
 #include <optional>
 #include <utility>
 
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "core/check.h"
 #include "core/file_io.h"
@@ -134,8 +135,6 @@ std::string exact(double v) {  // round-trips through %lf
   std::snprintf(b, sizeof b, "%.17g", v);
   return b;
 }
-
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string fmt(double v, int digits = 3) {
   if (!std::isfinite(v)) return "";
@@ -279,8 +278,13 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
   }
   // The planner on the same table.
   json plannerRows = json::array();
-  // Per planner curve (label): keyframes per 100 frames and median, for the plot.
-  std::vector<std::pair<std::string, Series>> curves;
+  // Per planner curve: keyframes per 100 frames and median, for the plot.
+  struct Curve {
+    std::string group;      // the predictor: "" = opt.plannerOptions', else "probe-psnr 64 px"
+    std::string criterion;  // "worst", …, "walk-median, fit on this table"
+    Series points;
+  };
+  std::vector<Curve> curves;
   double inSampleBestKf = std::nan("");
   std::string featureCsv =
       "k0,k1,frame,psnr,rel_distance,angle_deg,hole_fraction,stretch,disagreement_mse\n";
@@ -303,13 +307,12 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     const int gmax = std::min(opt.plannerOptions.maxGap, opt.maxGap);
     // One plan per target with `base` (predictor, criterion, fit) on `pr`,
     // scored on the table; returns the fewest keyframes per 100 frames
-    // reaching the reference.
+    // reaching the reference. One call per (group, criterion).
     auto sweepTargets = [&](keyframe::KeyframeProbe& pr, const keyframe::PlannerOptions& base,
-                            const std::string& label, double step) -> Result<double> {
-      Series* curve = nullptr;
-      for (auto& [l, c] : curves)
-        if (l == label) curve = &c;
-      if (!curve) curve = &curves.emplace_back(label, Series{}).second;
+                            const std::string& group, const std::string& criterion,
+                            double step) -> Result<double> {
+      const std::string label = group.empty() ? criterion : group + ", " + criterion;
+      Series* curve = &curves.emplace_back(Curve{group, criterion, Series{}}).points;
       double best = std::nan("");
       for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += step) {
         keyframe::PlannerOptions po = base;
@@ -342,7 +345,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       for (keyframe::PlanCriterion c : criteria) {
         keyframe::PlannerOptions po = opt.plannerOptions;
         po.criterion = c;
-        auto best = sweepTargets(probe, po, keyframe::planCriterionName(c), opt.plannerTargetStep);
+        auto best =
+            sweepTargets(probe, po, "", keyframe::planCriterionName(c), opt.plannerTargetStep);
         if (!best) return best.error();
         if (!(*best >= plannerBestKf)) {
           plannerBestKf = *best;
@@ -374,7 +378,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         po.criterion = keyframe::PlanCriterion::WalkMedian;
         po.useDefaultFit = false;
         po.fit = fit;
-        auto best = sweepTargets(probe, po, "walk-median, fit on this table", opt.plannerTargetStep);
+        auto best =
+            sweepTargets(probe, po, "", "walk-median, fit on this table", opt.plannerTargetStep);
         if (!best) return best.error();
         inSampleBestKf = *best;
       }
@@ -395,7 +400,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         base.probeSize = opt.probePsnrSize;
         base.probeError = opt.probeError;
         const std::string tag = std::string(keyframe::predictorName(pred)) + " " +
-                                std::to_string(opt.probePsnrSize) + " px, ";
+                                std::to_string(opt.probePsnrSize) + " px";
         json rows = json::array();
         // The cost of one walk-median plan over the whole path from scratch
         // (every frame's probe, every warp and comparison up to the max gap).
@@ -417,7 +422,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         for (keyframe::PlanCriterion c : criteria) {
           keyframe::PlannerOptions po = base;
           po.criterion = c;
-          auto best = sweepTargets(pp, po, tag + keyframe::planCriterionName(c), opt.probeTargetStep);
+          auto best =
+              sweepTargets(pp, po, tag, keyframe::planCriterionName(c), opt.probeTargetStep);
           if (!best) return best.error();
           rows.push_back({{"criterion", keyframe::planCriterionName(c)},
                           {"keyframes_per_100", finiteOrNull(*best)}});
@@ -456,7 +462,8 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
           po.criterion = keyframe::PlanCriterion::WalkMedian;
           po.useDefaultFit = false;
           po.fit = ifit;
-          auto best = sweepTargets(pp, po, tag + "walk-median, fit on this table", opt.probeTargetStep);
+          auto best =
+              sweepTargets(pp, po, tag, "walk-median, fit on this table", opt.probeTargetStep);
           if (!best) return best.error();
           inKf = *best;
         }
@@ -548,16 +555,53 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     fs.colour = pal[0];
     os.colour = pal[2];
     std::vector<Series> series{fs, os};
-    // worst, median, walk-median, in-sample fit; then the probe predictors'
-    // four each (colours repeat past the palette)
-    const std::size_t planColour[] = {1, 3, 4, 5, 6, 7, 8, 9, 1, 3, 4, 5};
-    for (std::size_t i = 0; i < curves.size(); ++i) {
-      Series c = curves[i].second;
-      c.label = "error-driven planner, " + curves[i].first;
-      c.lines = false;
-      c.colour = pal[planColour[std::min(i, std::size(planColour) - 1)]];
-      series.push_back(c);
+    // Colour = predictor, marker = plan criterion (the fit-on-this-table
+    // plans joined by a line): one legend row per predictor and per
+    // criterion, from point-less series, instead of one per curve (14 with
+    // the probe predictors: taller and wider than the plot).
+    const std::size_t groupColour[] = {1, 3, 4, 5, 6, 7, 8, 9};
+    const std::string criteria[] = {"worst", "median", "walk-median",
+                                    "walk-median, fit on this table"};
+    const Marker criterionMarker[] = {Marker::kCircle, Marker::kSquare, Marker::kDiamond,
+                                      Marker::kDiamond};
+    std::vector<std::string> groups;
+    std::vector<Series> legend;
+    for (const Curve& c : curves) {
+      auto g = std::find(groups.begin(), groups.end(), c.group);
+      if (g == groups.end()) {
+        g = groups.insert(g, c.group);
+        Series entry;
+        entry.label =
+            "planner, " + (c.group.empty()
+                               ? std::string(keyframe::predictorName(opt.plannerOptions.predictor))
+                               : c.group);
+        entry.markers = false;
+        entry.colour =
+            pal[groupColour[std::min<std::size_t>(groups.size() - 1, std::size(groupColour) - 1)]];
+        legend.push_back(entry);
+      }
+      const std::size_t k = static_cast<std::size_t>(
+          std::find(std::begin(criteria), std::end(criteria), c.criterion) - std::begin(criteria));
+      HW_CHECK_LT(k, std::size(criteria));
+      Series p = c.points;
+      p.colour = legend[static_cast<std::size_t>(g - groups.begin())].colour;
+      p.marker = criterionMarker[k];
+      p.lines = k == 3;
+      series.push_back(p);
     }
+    const Rgba8 kNeutral{80, 80, 80, 255};
+    for (std::size_t k = 0; k < std::size(criteria); ++k) {
+      bool used = false;
+      for (const Curve& c : curves) used = used || c.criterion == criteria[k];
+      if (!used) continue;
+      Series entry;
+      entry.label = "plan by " + criteria[k];
+      entry.colour = kNeutral;
+      entry.marker = criterionMarker[k];
+      entry.lines = k == 3;
+      legend.push_back(entry);
+    }
+    series.insert(series.end(), legend.begin(), legend.end());
     PlotOptions po;
     po.title = "Median in-between PSNR vs keyframes: " + sceneLabel + " (" + std::to_string(frames) +
                " frames, " + std::to_string(path.width) + "x" + std::to_string(path.height) + ")";

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <map>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -19,7 +21,6 @@ using keyframe::Predictor;
 using nlohmann::json;
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 // Per in-between frame of a walk: its bracketing keyframes and measured PSNR.
 struct FrameSample {
@@ -91,8 +92,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   auto probeRendererR = keyframe::GeometryRenderer::create(scene, ropt);
   if (!probeRendererR) return probeRendererR.error();
   auto cameraOf = [&](int i) { return path.cameraAt(i); };
-  // One probe cache for the correlation part (its cost is not a plan's cost).
-  keyframe::KeyframeProbe probe(**probeRendererR, cameraOf, opt.planner.probeSize);
+  // One probe cache for the correlation part (its cost is not a plan's cost),
+  // with the cold plans' probe options so both see the same probes.
+  keyframe::KeyframeProbe probe(**probeRendererR, cameraOf, opt.planner.probeSize,
+                                opt.planner.probeError);
 
   auto walk = [&](const scenes::CameraPath& p, const std::vector<int>& keys, Run& run) -> Status {
     WalkOptions w = opt.walk;
@@ -119,6 +122,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       auto feat = probe.features(s.k0, s.k1, s.frame);
       if (!feat) return feat.error();
       s.features = *feat;
+      // The probe predictors' regressor (features() leaves it NaN).
+      auto mse = probe.probeError(s.k0, s.k1, s.frame);
+      if (!mse) return mse.error();
+      s.features.probeMse = *mse;
       run.samples.push_back(s);
     }
     return {};
@@ -159,7 +166,11 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   std::vector<double> measured;
   for (const Run& r : fixedRuns)
     for (const FrameSample& s : r.samples) feats.push_back(s.features), measured.push_back(s.psnr);
-  for (Predictor pr : keyframe::kAllPredictors) {
+  std::vector<Predictor> candidates(std::begin(keyframe::kAllPredictors),
+                                    std::end(keyframe::kAllPredictors));
+  candidates.insert(candidates.end(), std::begin(keyframe::kProbePredictors),
+                    std::end(keyframe::kProbePredictors));
+  for (Predictor pr : candidates) {
     const keyframe::PsnrFit pf = keyframe::fitPredictor(feats, measured, pr);
     fits[pr] = pf;
     std::vector<double> x, y, xr, yr;
@@ -417,7 +428,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   {
     std::string csv =
         "schedule,param,frame,k0,k1,psnr,rel_distance,angle_deg,hole_fraction,stretch,"
-        "disagreement_mse\n";
+        "disagreement_mse,probe_mse\n";
     for (const std::vector<Run>* group : {&fixedRuns, &adaptiveRuns})
       for (const Run& r : *group)
         for (const FrameSample& s : r.samples)
@@ -425,7 +436,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                  std::to_string(s.k0) + "," + std::to_string(s.k1) + "," + fmt(s.psnr, 3) + "," +
                  fmt(s.features.relDistance, 5) + "," + fmt(s.features.angleDeg, 4) + "," +
                  fmt(s.features.holeFraction, 6) + "," + fmt(s.features.stretch, 5) + "," +
-                 fmt(s.features.disagreementMse, 3) + "\n";
+                 fmt(s.features.disagreementMse, 3) + "," + fmt(s.features.probeMse, 3) + "\n";
     HW_TRY(writeFileAtomic(opt.outDir + "/frames.csv", csv));
   }
 

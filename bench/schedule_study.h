@@ -29,7 +29,8 @@ struct ScheduleStudyOptions {
   std::vector<double> targets;
   keyframe::PlannerOptions planner;  // gaps, probe size, predictor; target ignored
   // Plan with the predictor whose rank correlation with the measured PSNR of
-  // the fixed walks is strongest here, and its fit; otherwise planner's.
+  // the fixed walks is strongest here (kAllPredictors and kProbePredictors),
+  // and its fit; otherwise planner's.
   bool autoPredictor = true;
   WalkOptions walk;  // τ, planarity, depth, … (output, schedule and progress are set here)
   bool progress = true;

@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/walk.h"
 #include "core/timer.h"
 #include "scenes/camera_path.h"
@@ -17,7 +18,6 @@ namespace {
 using nlohmann::json;
 
 double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 struct Skip {
   const char* name;
@@ -37,7 +37,7 @@ json measure(const json& s) {
           {"psnr_large_quads_median", s["psnr_large_quads"]["median"]},
           {"psnr_large_quads_p5", s["psnr_large_quads"]["p5"]},
           {"large_quad_pixel_share_median",
-           finite(num(s["large_quad_pixels"]["median"]) / pixels)},
+           finiteOrNull(num(s["large_quad_pixels"]["median"]) / pixels)},
           {"drawn_quads_per_keyframe_median", s["drawn_quads_per_keyframe"]["median"]},
           {"subdivided_quads_per_keyframe_median", s["subdivided_quads_per_keyframe"]["median"]}};
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -32,8 +33,6 @@ constexpr DepthMode kModes[3] = {DepthMode::Fixed24, DepthMode::Float32, DepthMo
 constexpr double kRatios[4] = {10.0, 1e3, 1e5, 1e6};
 constexpr double kAngles[5] = {0.0, 30.0, 60.0, 75.0, 85.0};
 constexpr double kPlaneNear = 0.1;
-
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string ratioLabel(double r) {
   const double l = std::log10(r);

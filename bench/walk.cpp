@@ -1,5 +1,6 @@
 #include "bench/walk.h"
 #include "bench/frame_budget.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "bench/progress.h"
 
@@ -32,8 +33,6 @@ namespace hw::bench {
 namespace {
 
 using nlohmann::json;
-
-json finiteOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string frameName(int i) {
   char buf[32];
