@@ -209,7 +209,7 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
                             "composed like the walk; its low-res PSNR, holes charged, calibrated "
                             "to full-res dB; renders every frame's probe), probe-psnr+distance "
                             "(that and distance, two-term fit)") +
-                    (withAuto ? "; auto = the one that correlates best with the fixed walks' PSNR" : ""))
+                    (withAuto ? "; auto = the one, probe predictors included, whose fit ranks the fixed walks' PSNR best (Spearman; fits where PSNR rises with the regressor are skipped)" : ""))
       ->check(CLI::IsMember(names))
       ->capture_default_str();
 }
