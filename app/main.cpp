@@ -15,6 +15,7 @@
 #include "bench/bake.h"
 #include "bench/bench_suite.h"
 #include "bench/export.h"
+#include "bench/json_util.h"
 #include "bench/slurm.h"
 #include "bench/schedule_calibration.h"
 #include "bench/schedule_oracle.h"
@@ -208,7 +209,9 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
                             "probe-psnr (both keyframe probes warped into the frame's own probe and "
                             "composed like the walk; its low-res PSNR, holes charged, calibrated "
                             "to full-res dB; renders every frame's probe), probe-psnr+distance "
-                            "(that and distance, two-term fit)") +
+                            "(that and distance, two-term fit), probe-psnr+features (probe-psnr, "
+                            "distance, holes, stretch, disagreement and angle: six regressors, "
+                            "meant to be refitted on the scene with --calibrate-spacing)") +
                     (withAuto ? "; auto = the one, probe predictors included, whose fit ranks the fixed walks' PSNR best (Spearman; fits where PSNR rises with the regressor are skipped)" : ""))
       ->check(CLI::IsMember(names))
       ->capture_default_str();
@@ -1697,8 +1700,7 @@ int main(int argc, char** argv) {
                    {"probe_size", walkPlan.probeSize},
                    {"candidate_stride", walkPlan.candidateStride},
                    {"frames_per_segment", walkPlan.framesPerSegment},
-                   {"fit", {{"intercept", plan->fit.intercept}, {"slope", plan->fit.slope},
-                            {"slope2", plan->fit.slope2}}},
+                   {"fit", bench::fitJson(plan->fit)},
                    {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
                    {"probes", plan->probes}, {"evaluations", plan->evaluations}};
     std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",

@@ -3,11 +3,27 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "keyframe/keyframe_planner.h"
+
 namespace hw::bench {
 
 // v as a JSON number, or null when v is NaN or ±inf (JSON has no such numbers).
 inline nlohmann::json finiteOrNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+// A predictor fit: {"intercept", "slope", "slope2"} (null when not finite),
+// and "more" (the slopes of regressors 3..) only when the fit has them.
+inline nlohmann::json fitJson(const keyframe::PsnrFit& f) {
+  nlohmann::json j = {{"intercept", finiteOrNull(f.intercept)},
+                      {"slope", finiteOrNull(f.slope)},
+                      {"slope2", finiteOrNull(f.slope2)}};
+  if (!f.more.empty()) {
+    nlohmann::json m = nlohmann::json::array();
+    for (double v : f.more) m.push_back(finiteOrNull(v));
+    j["more"] = m;
+  }
+  return j;
 }
 
 }  // namespace hw::bench

@@ -106,8 +106,8 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
   }
   PlotOptions po;
   char title[200];
-  std::snprintf(title, sizeof title, "%s refitted on %d frames: residual sd %.2f dB, Spearman %.3f",
-                keyframe::predictorName(predictor), fit.samples, fit.residualStdDb, fit.spearman);
+  std::snprintf(title, sizeof title, "%s refit: residual sd %.2f dB, Spearman %.3f",
+                keyframe::predictorName(predictor), fit.residualStdDb, fit.spearman);
   po.title = title;
   po.xLabel = "predicted PSNR of the in-between frame, dB";
   po.yLabel = "measured PSNR, dB";
@@ -176,8 +176,8 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
   PlotOptions po;
   po.width = 1000;
   po.height = 420;
-  po.title = "planned schedule: " + std::to_string(keyframes.size()) +
-             " keyframes; in-between PSNR predicted by the planner vs measured by the walk";
+  po.title = std::to_string(keyframes.size()) +
+             " keyframes planned: in-between PSNR, predicted vs measured";
   po.xLabel = "frame";
   po.yLabel = "PSNR, dB";
   if (auto st = writePlot(outDir + "/planned.png", {meas, pred, target, keys}, po); !st) return st.error();

@@ -373,7 +373,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       const keyframe::PsnrFit fit =
           keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
       if (std::isfinite(fit.intercept) && std::isfinite(fit.slope)) {
-        inSampleFit = {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}};
+        inSampleFit = fitJson(fit);
         keyframe::PlannerOptions po = opt.plannerOptions;
         po.criterion = keyframe::PlanCriterion::WalkMedian;
         po.useDefaultFit = false;
@@ -436,18 +436,18 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         for (int k0 = 0; k0 < frames; ++k0)
           for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
             for (int f = k0 + 1; f < k1; ++f) {
-              auto e = pp.probeError(k0, k1, f);
-              if (!e) return e.error();
-              auto d = pp.relDistance(k0, k1, f);
-              if (!d) return d.error();
-              keyframe::FrameFeatures ff;
-              ff.probeMse = *e;
-              ff.relDistance = *d;
-              pf.push_back(ff);
+              auto ff = keyframe::predictorFeatures(pp, pred, k0, k1, f);
+              if (!ff) return ff.error();
+              if (pred == keyframe::Predictor::ProbePsnr) {  // it reads probeMse alone
+                auto d = pp.relDistance(k0, k1, f);
+                if (!d) return d.error();
+                ff->relDistance = *d;
+              }
+              pf.push_back(*ff);
               if (first)
                 probeCsv += std::to_string(k0) + "," + std::to_string(k1) + "," +
-                            std::to_string(f) + "," + exact(table.at(k0, k1, f)) + "," + exact(*e) +
-                            "," + exact(*d) + "\n";
+                            std::to_string(f) + "," + exact(table.at(k0, k1, f)) + "," +
+                            exact(ff->probeMse) + "," + exact(ff->relDistance) + "\n";
             }
         std::vector<double> predDefault, predIn;
         const keyframe::PsnrFit dfit = keyframe::defaultFit(pred);
@@ -457,7 +457,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
           predIn.push_back(keyframe::predictPsnr(ifit, ff, pred));
         }
         double inKf = std::nan("");
-        if (std::isfinite(ifit.intercept) && std::isfinite(ifit.slope)) {
+        if (ifit.finite()) {
           keyframe::PlannerOptions po = base;
           po.criterion = keyframe::PlanCriterion::WalkMedian;
           po.useDefaultFit = false;
@@ -484,14 +484,10 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
              {"keyframes_per_100", finiteOrNull(bestKf)},
              {"criterion", bestCrit},
              {"reduction", finiteOrNull(1.0 - bestKf / refKf)},
-             {"default_fit",
-              {{"intercept", dfit.intercept}, {"slope", dfit.slope}, {"slope2", dfit.slope2}}},
+             {"default_fit", fitJson(dfit)},
              {"default_fit_rmse_db", finiteOrNull(rmse)},
              {"spearman", finiteOrNull(keyframe::spearman(predIn, meas))},
-             {"in_sample_fit",
-              {{"intercept", finiteOrNull(ifit.intercept)},
-               {"slope", finiteOrNull(ifit.slope)},
-               {"slope2", finiteOrNull(ifit.slope2)}}},
+             {"in_sample_fit", fitJson(ifit)},
              {"in_sample_keyframes_per_100", finiteOrNull(inKf)},
              {"in_sample_reduction", finiteOrNull(1.0 - inKf / refKf)},
              {"walk_median_plan_ms", planMs},

@@ -187,10 +187,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                            {"spearman_pooled", finiteOrNull(sp)},
                            {"pearson_reference_spacing", finiteOrNull(pref)},
                            {"spearman_reference_spacing", finiteOrNull(sref)},
-                           {"fit",
-                            {{"intercept", finiteOrNull(pf.intercept)},
-                             {"slope", finiteOrNull(pf.slope)},
-                             {"slope2", finiteOrNull(pf.slope2)}}},
+                           {"fit", fitJson(pf)},
                            {"samples", x.size()}});
     csvCorr += std::string(keyframe::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) +
                "," + fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(pf.intercept, 3) + "," +
@@ -406,7 +403,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       {"planner",
        {{"predictor", keyframe::predictorName(planner.predictor)},
         {"predictor_chosen_by_correlation", opt.autoPredictor},
-        {"fit", {{"intercept", fit.intercept}, {"slope", fit.slope}, {"slope2", fit.slope2}}},
+        {"fit", fitJson(fit)},
         {"criterion", keyframe::planCriterionName(planner.criterion)},
         {"min_gap", planner.minGap},
         {"max_gap", planner.maxGap},

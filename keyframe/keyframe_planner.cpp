@@ -230,6 +230,8 @@ const char* predictorName(Predictor p) {
       return "probe-psnr";
     case Predictor::ProbePsnrDistance:
       return "probe-psnr+distance";
+    case Predictor::ProbePsnrFeatures:
+      return "probe-psnr+features";
   }
   return "?";
 }
@@ -270,20 +272,114 @@ double predictorValue(const FrameFeatures& f, Predictor p) {
       return std::log10(f.holeFraction + 1e-5);
     case Predictor::ProbePsnr:
     case Predictor::ProbePsnrDistance:
+    case Predictor::ProbePsnrFeatures:
       return std::log10(f.probeMse + 1e-2);
   }
   return std::nan("");
 }
 
 double predictorValue2(const FrameFeatures& f, Predictor p) {
-  return p == Predictor::HolesDistance || p == Predictor::ProbePsnrDistance
+  return p == Predictor::HolesDistance || p == Predictor::ProbePsnrDistance ||
+                 p == Predictor::ProbePsnrFeatures
              ? std::log10(f.relDistance + 1e-3)
              : 0.0;
 }
 
-double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p) {
-  return fit.predict(predictorValue(f, p), predictorValue2(f, p));
+std::vector<double> predictorValuesMore(const FrameFeatures& f, Predictor p) {
+  if (p != Predictor::ProbePsnrFeatures) return {};
+  return {predictorValue(f, Predictor::Holes), predictorValue(f, Predictor::Stretch),
+          predictorValue(f, Predictor::Disagreement), predictorValue(f, Predictor::Angle)};
 }
+
+int predictorRegressors(Predictor p) {
+  switch (p) {
+    case Predictor::HolesDistance:
+    case Predictor::ProbePsnrDistance:
+      return 2;
+    case Predictor::ProbePsnrFeatures:
+      return 6;
+    default:
+      return 1;
+  }
+}
+
+bool PsnrFit::finite() const {
+  if (!(std::isfinite(intercept) && std::isfinite(slope) && std::isfinite(slope2))) return false;
+  for (double m : more)
+    if (!std::isfinite(m)) return false;
+  return true;
+}
+
+double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p) {
+  double v = fit.predict(predictorValue(f, p), predictorValue2(f, p));
+  if (p == Predictor::ProbePsnrFeatures) {
+    const std::vector<double> x = predictorValuesMore(f, p);
+    if (fit.more.size() != x.size()) return std::nan("");
+    for (std::size_t i = 0; i < x.size(); ++i) v += fit.more[i] * x[i];
+  }
+  return v;
+}
+
+namespace {
+
+// Least squares with k regressors (rows of x, k each) and an intercept:
+// the centred normal equations solved by Gaussian elimination with partial
+// pivoting. coef[0] = intercept, coef[1..k] = slopes. A regressor constant
+// over the data (no variance) gets slope 0 (its level is in the intercept);
+// empty when the others are collinear or n ≤ k.
+std::vector<double> leastSquares(const std::vector<std::vector<double>>& x, const std::vector<double>& y) {
+  const std::size_t n = y.size();
+  if (n == 0) return {};
+  const std::size_t k = x[0].size();
+  if (n <= k) return {};
+  std::vector<double> mx(k, 0.0);
+  double my = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < k; ++j) mx[j] += x[i][j];
+    my += y[i];
+  }
+  for (double& m : mx) m /= static_cast<double>(n);
+  my /= static_cast<double>(n);
+  // Augmented k × (k+1) system: Σ (x−mx)(x−mx)ᵀ β = Σ (x−mx)(y−my).
+  std::vector<std::vector<double>> a(k, std::vector<double>(k + 1, 0.0));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t r = 0; r < k; ++r) {
+      const double dr = x[i][r] - mx[r];
+      for (std::size_t c = 0; c < k; ++c) a[r][c] += dr * (x[i][c] - mx[c]);
+      a[r][k] += dr * (y[i] - my);
+    }
+  double scale = 0;
+  for (std::size_t r = 0; r < k; ++r) scale = std::max(scale, std::abs(a[r][r]));
+  // Constant regressors: slope 0, i.e. row and column replaced by the identity.
+  for (std::size_t r = 0; r < k; ++r)
+    if (!(a[r][r] > 1e-12 * std::max(1.0, scale))) {
+      for (std::size_t c = 0; c < k; ++c) a[r][c] = 0, a[c][r] = 0;
+      a[r][r] = 1;
+      a[r][k] = 0;
+    }
+  for (std::size_t col = 0; col < k; ++col) {
+    std::size_t piv = col;
+    for (std::size_t r = col + 1; r < k; ++r)
+      if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
+    if (!(std::abs(a[piv][col]) > 1e-12 * std::max(1.0, scale))) return {};
+    std::swap(a[piv], a[col]);
+    for (std::size_t r = 0; r < k; ++r) {
+      if (r == col) continue;
+      const double m = a[r][col] / a[col][col];
+      for (std::size_t c = col; c <= k; ++c) a[r][c] -= m * a[col][c];
+    }
+  }
+  std::vector<double> coef(k + 1);
+  double icpt = my;
+  for (std::size_t j = 0; j < k; ++j) {
+    coef[j + 1] = a[j][k] / a[j][j];
+    icpt -= coef[j + 1] * mx[j];
+  }
+  coef[0] = icpt;
+  return coef;
+}
+
+}  // namespace
 
 PsnrFit fitPredictor(const std::vector<FrameFeatures>& f, const std::vector<double>& psnr,
                      Predictor p) {
@@ -293,6 +389,26 @@ PsnrFit fitPredictor(const std::vector<FrameFeatures>& f, const std::vector<doub
     const double a = predictorValue(f[i], p), b = predictorValue2(f[i], p);
     if (std::isfinite(a) && std::isfinite(b) && std::isfinite(psnr[i]))
       x.push_back(a), x2.push_back(b), y.push_back(psnr[i]);
+  }
+  if (p == Predictor::ProbePsnrFeatures) {
+    std::vector<std::vector<double>> rows;
+    std::vector<double> ys;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      std::vector<double> r{predictorValue(f[i], p), predictorValue2(f[i], p)};
+      for (double v : predictorValuesMore(f[i], p)) r.push_back(v);
+      bool ok = std::isfinite(psnr[i]);
+      for (double v : r) ok = ok && std::isfinite(v);
+      if (ok) rows.push_back(std::move(r)), ys.push_back(psnr[i]);
+    }
+    const std::vector<double> c = leastSquares(rows, ys);
+    PsnrFit r{std::nan(""), std::nan(""), std::nan(""), {}};
+    if (c.size() != 7) {
+      r.more.assign(4, std::nan(""));
+      return r;
+    }
+    r.intercept = c[0], r.slope = c[1], r.slope2 = c[2];
+    r.more.assign(c.begin() + 3, c.end());
+    return r;
   }
   if (p != Predictor::HolesDistance && p != Predictor::ProbePsnrDistance) return fitLine(x, y);
   // Two regressors: solve the centred 2×2 normal equations.
@@ -344,6 +460,11 @@ PsnrFit defaultFit(Predictor p) {
       return {41.93, -8.41};
     case Predictor::ProbePsnrDistance:
       return {40.99, -8.23, -0.96};
+    // The same table, six regressors (probe MSE, distance, holes, stretch,
+    // disagreement, angle): residual sd 1.49 dB there. Meant to be refitted
+    // on the scene (walk --calibrate-spacing).
+    case Predictor::ProbePsnrFeatures:
+      return {38.565, -7.332, -0.485, {-0.536, -0.125, -0.026, -0.148}};
   }
   return {};
 }
@@ -881,6 +1002,13 @@ Result<FrameFeatures> predictorFeatures(KeyframeProbe& probe, Predictor p, int k
   if (!isProbePredictor(p)) return probe.features(k0, k1, frame);
   auto e = probe.probeError(k0, k1, frame);
   if (!e) return e.error();
+  if (p == Predictor::ProbePsnrFeatures) {
+    auto all = probe.features(k0, k1, frame);
+    if (!all) return all.error();
+    FrameFeatures ff = *all;
+    ff.probeMse = *e;
+    return ff;
+  }
   FrameFeatures ff;
   ff.probeMse = *e;
   if (p == Predictor::ProbePsnrDistance) {
@@ -909,7 +1037,7 @@ Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor 
   }
   PredictorCalibration c;
   c.fit = fitPredictor(features, measured, p);
-  const int params = (p == Predictor::HolesDistance || p == Predictor::ProbePsnrDistance) ? 3 : 2;
+  const int params = predictorRegressors(p) + 1;
   std::vector<double> pr, me;
   double ss = 0;
   c.predictedDb.assign(samples.size(), std::nan(""));
@@ -921,9 +1049,7 @@ Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor 
     ss += (measured[i] - v) * (measured[i] - v);
   }
   c.samples = static_cast<int>(pr.size());
-  if (!(std::isfinite(c.fit.intercept) && std::isfinite(c.fit.slope) &&
-        std::isfinite(c.fit.slope2)) ||
-      c.samples <= params)
+  if (!c.fit.finite() || c.samples <= params)
     return makeError("predictor calibration (" + std::string(predictorName(p)) + "): expected more than " +
                      std::to_string(params) + " measured in-between frames with distinct predictor "
                      "values, got " + std::to_string(samples.size()) + " frames that do not determine a fit");
@@ -963,8 +1089,7 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   if (!(std::isfinite(opt.error.sigmaDb) && opt.error.sigmaDb >= 0))
     return makeError("keyframe planner: expected an uncertainty >= 0 dB, got " +
                      std::to_string(opt.error.sigmaDb));
-  if (!opt.useDefaultFit && !(std::isfinite(opt.fit.intercept) && std::isfinite(opt.fit.slope) &&
-                              std::isfinite(opt.fit.slope2)))
+  if (!opt.useDefaultFit && !opt.fit.finite())
     return makeError("keyframe planner: the predictor's fit has a non-finite coefficient");
   if (opt.candidateStride < 1 || opt.framesPerSegment < 0)
     return makeError("keyframe planner: candidate stride must be >= 1 and frames per segment >= 0");

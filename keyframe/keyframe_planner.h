@@ -182,10 +182,14 @@ enum class Predictor {
   Disagreement,
   HolesDistance,
   ProbePsnr,
-  ProbePsnrDistance
+  ProbePsnrDistance,
+  // probe-psnr, distance, holes, stretch, disagreement and angle together
+  // (six regressors, each as its single predictor's log): the planner's
+  // every cheap feature, for a fit to the scene's own calibration walks.
+  ProbePsnrFeatures
 };
 // "distance", "angle", "holes", "stretch", "disagreement", "holes+distance",
-// "probe-psnr", "probe-psnr+distance"
+// "probe-psnr", "probe-psnr+distance", "probe-psnr+features"
 const char* predictorName(Predictor p);
 bool parsePredictor(const char* s, Predictor* out);
 // The predictors computed from FrameFeatures::features() alone (ProbePsnr
@@ -193,24 +197,38 @@ bool parsePredictor(const char* s, Predictor* out);
 constexpr Predictor kAllPredictors[] = {Predictor::Distance,     Predictor::Angle,
                                         Predictor::Holes,        Predictor::Stretch,
                                         Predictor::Disagreement, Predictor::HolesDistance};
-constexpr Predictor kProbePredictors[] = {Predictor::ProbePsnr, Predictor::ProbePsnrDistance};
+constexpr Predictor kProbePredictors[] = {Predictor::ProbePsnr, Predictor::ProbePsnrDistance,
+                                          Predictor::ProbePsnrFeatures};
 inline bool isProbePredictor(Predictor p) {
-  return p == Predictor::ProbePsnr || p == Predictor::ProbePsnrDistance;
+  return p == Predictor::ProbePsnr || p == Predictor::ProbePsnrDistance ||
+         p == Predictor::ProbePsnrFeatures;
 }
 
 // The (first) regressor of a predictor: log10(feature + floor), floors keep 0
 // finite; HolesDistance's first is the holes one.
 double predictorValue(const FrameFeatures& f, Predictor p);
-// The second regressor: log10(relDistance + 1e-3) for HolesDistance and
-// ProbePsnrDistance, else 0.
+// The second regressor: log10(relDistance + 1e-3) for HolesDistance,
+// ProbePsnrDistance and ProbePsnrFeatures, else 0.
 double predictorValue2(const FrameFeatures& f, Predictor p);
+// ProbePsnrFeatures' regressors after the first two, in order: holes,
+// stretch, disagreement, angle (each as predictorValue of its single
+// predictor); empty for the others.
+std::vector<double> predictorValuesMore(const FrameFeatures& f, Predictor p);
+// Regressors of a predictor: 1, 2 or 6.
+int predictorRegressors(Predictor p);
 
-// PSNR (dB) ≈ intercept + slope · x + slope2 · x2 (x, x2: the regressors).
+// PSNR (dB) ≈ intercept + slope · x + slope2 · x2 + Σ more[i] · xMore[i]
+// (x, x2, xMore: the regressors).
 struct PsnrFit {
+  PsnrFit() = default;
+  PsnrFit(double i, double s, double s2 = 0, std::vector<double> m = {})
+      : intercept(i), slope(s), slope2(s2), more(std::move(m)) {}
   double intercept = 0;
   double slope = 0;
   double slope2 = 0;
+  std::vector<double> more;  // ProbePsnrFeatures: the slopes of its regressors 3..6
   double predict(double x, double x2 = 0) const { return intercept + slope * x + slope2 * x2; }
+  bool finite() const;  // every coefficient
 };
 double predictPsnr(const PsnrFit& fit, const FrameFeatures& f, Predictor p);
 // Least-squares fit of a predictor's regressors to measured PSNRs (pairs with

@@ -414,5 +414,67 @@ TEST(KeyframePlanner, ProbabilityOfReachingTheTarget) {
   EXPECT_EQ(emp.probabilityAtLeast(std::nan(""), 30.0), 0.0);
 }
 
+// probe-psnr+features: six regressors by least squares. Exact data give the
+// coefficients back; data that do not determine them give NaN; a fit whose
+// extra slopes do not match the predictor predicts NaN.
+TEST(KeyframePlannerFit, SixRegressorFitRecoversEverySlope) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const PsnrFit truth(35.0, -6.0, -1.5, {-0.7, -0.2, -0.05, -0.3});
+  std::vector<FrameFeatures> f;
+  std::vector<double> y;
+  for (int i = 0; i < 200; ++i) {
+    FrameFeatures x;
+    x.probeMse = std::pow(10.0, 3 * u(rng));
+    x.relDistance = std::pow(10.0, -2 + 2 * u(rng));
+    x.holeFraction = 0.2 * u(rng);
+    x.stretch = u(rng);
+    x.disagreementMse = 100 * u(rng);
+    x.angleDeg = 20 * u(rng);
+    f.push_back(x);
+    y.push_back(predictPsnr(truth, x, Predictor::ProbePsnrFeatures));
+  }
+  ASSERT_TRUE(std::isfinite(y[0]));
+  EXPECT_EQ(predictorRegressors(Predictor::ProbePsnrFeatures), 6);
+  EXPECT_EQ(predictorValuesMore(f[0], Predictor::ProbePsnrFeatures).size(), 4u);
+  EXPECT_TRUE(predictorValuesMore(f[0], Predictor::ProbePsnrDistance).empty());
+  const PsnrFit fit = fitPredictor(f, y, Predictor::ProbePsnrFeatures);
+  ASSERT_TRUE(fit.finite());
+  EXPECT_NEAR(fit.intercept, 35.0, 1e-6);
+  EXPECT_NEAR(fit.slope, -6.0, 1e-6);
+  EXPECT_NEAR(fit.slope2, -1.5, 1e-6);
+  ASSERT_EQ(fit.more.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(fit.more[i], truth.more[i], 1e-6) << i;
+  // One feature constant (as angle is on a path that never turns): slope 0,
+  // its level in the intercept, the others still exact.
+  std::vector<FrameFeatures> flat = f;
+  std::vector<double> yFlat;
+  for (auto& x : flat) {
+    x.stretch = 0.5;
+    yFlat.push_back(predictPsnr(truth, x, Predictor::ProbePsnrFeatures));
+  }
+  const PsnrFit flatFit = fitPredictor(flat, yFlat, Predictor::ProbePsnrFeatures);
+  ASSERT_TRUE(flatFit.finite());
+  EXPECT_EQ(flatFit.more[1], 0.0);
+  EXPECT_NEAR(flatFit.slope, -6.0, 1e-6);
+  EXPECT_NEAR(flatFit.more[0], -0.7, 1e-6);
+  EXPECT_NEAR(predictPsnr(flatFit, flat[3], Predictor::ProbePsnrFeatures), yFlat[3], 1e-6);
+  // Two features carrying the same regressor: not determined.
+  std::vector<FrameFeatures> twin = f;
+  for (auto& x : twin) x.holeFraction = x.stretch + 1e-3 - 1e-5;
+  EXPECT_FALSE(fitPredictor(twin, y, Predictor::ProbePsnrFeatures).finite());
+  // Fewer frames than coefficients.
+  EXPECT_FALSE(fitPredictor({f.begin(), f.begin() + 5}, {y.begin(), y.begin() + 5},
+                            Predictor::ProbePsnrFeatures)
+                   .finite());
+  // A two-regressor fit used for the six-regressor predictor: no prediction.
+  EXPECT_TRUE(std::isnan(predictPsnr(PsnrFit(35.0, -6.0, -1.5), f[0], Predictor::ProbePsnrFeatures)));
+  EXPECT_TRUE(defaultFit(Predictor::ProbePsnrFeatures).finite());
+  Predictor p = Predictor::Holes;
+  ASSERT_TRUE(parsePredictor("probe-psnr+features", &p));
+  EXPECT_EQ(p, Predictor::ProbePsnrFeatures);
+  EXPECT_TRUE(isProbePredictor(p));
+}
+
 }  // namespace
 }  // namespace hw::keyframe

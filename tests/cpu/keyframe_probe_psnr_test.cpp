@@ -221,6 +221,11 @@ TEST(KeyframeProbePsnr, CalibrationRecoversTheLineAndItsSpread) {
   auto c2 = calibratePredictor(probe, Predictor::ProbePsnrDistance, samples);
   ASSERT_TRUE(c2.ok()) << c2.error().message;
   EXPECT_LE(c2->residualStdDb, c->residualStdDb + 0.02);
+  // Six regressors (probe error, distance, holes, stretch, disagreement, angle).
+  auto c6 = calibratePredictor(probe, Predictor::ProbePsnrFeatures, samples);
+  ASSERT_TRUE(c6.ok()) << c6.error().message;
+  EXPECT_EQ(c6->fit.more.size(), 4u);
+  EXPECT_LE(c6->residualStdDb, c->residualStdDb + 0.05);
   // Too few frames to fit.
   auto few = calibratePredictor(probe, Predictor::ProbePsnr, {samples[0], samples[1]});
   ASSERT_FALSE(few.ok());
