@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <vector>
@@ -237,6 +238,35 @@ TEST(KeyframePlannerFit, RegressorsAreFiniteAtZeroAndGrowWithTheFeature) {
   EXPECT_FALSE(parsePredictor("psnr", &none));
 }
 
+// The fewest keyframes over every schedule of a short path (0 and frames−1
+// keyframes; gaps minGap..maxGap, only the last may be shorter) whose
+// in-between frames' summed count(k0, k1, f) — per segment, then over
+// segments, the DP's order, so exact ties agree — exceeds half of them; 0
+// when no schedule does.
+int fewestByBruteForce(int frames, int minGap, int maxGap,
+                       const std::function<double(int, int, int)>& count) {
+  int best = 0;
+  for (unsigned mask = 0; mask < (1u << (frames - 2)); ++mask) {
+    std::vector<int> keys{0};
+    for (int i = 1; i < frames - 1; ++i)
+      if (mask & (1u << (i - 1))) keys.push_back(i);
+    keys.push_back(frames - 1);
+    bool ok = true;
+    double good = 0;
+    for (std::size_t j = 1; j < keys.size() && ok; ++j) {
+      const int gap = keys[j] - keys[j - 1];
+      if (gap > maxGap || (gap < minGap && j + 1 < keys.size())) ok = false;
+      double segment = 0;
+      for (int f = keys[j - 1] + 1; ok && f < keys[j]; ++f) segment += count(keys[j - 1], keys[j], f);
+      good += segment;
+    }
+    const int inBetween = frames - static_cast<int>(keys.size());
+    if (ok && inBetween >= 1 && 2 * good > inBetween && (best == 0 || static_cast<int>(keys.size()) < best))
+      best = static_cast<int>(keys.size());
+  }
+  return best;
+}
+
 // Walk-median: the fewest keyframes (gaps from minGap, only the last shorter)
 // with more than half of the frames predicted >= target, checked against every
 // schedule of a short path; planKeyframes' walk-median is that schedule, and
@@ -252,24 +282,9 @@ TEST(KeyframePlanner, WalkMedianIsTheFewestKeyframesOverEverySchedule) {
       return table[static_cast<std::size_t>((k0 * frames + k1) * frames + f)];
     };
     for (double target : {25.0, 30.0, 35.0}) {
-      int best = 0;
-      for (unsigned mask = 0; mask < (1u << (frames - 2)); ++mask) {
-        std::vector<int> keys{0};
-        for (int i = 1; i < frames - 1; ++i)
-          if (mask & (1u << (i - 1))) keys.push_back(i);
-        keys.push_back(frames - 1);
-        bool ok = true;
-        int good = 0;
-        for (std::size_t j = 1; j < keys.size() && ok; ++j) {
-          const int gap = keys[j] - keys[j - 1];
-          if (gap > maxGap || (gap < minGap && j + 1 < keys.size())) ok = false;
-          for (int f = keys[j - 1] + 1; ok && f < keys[j]; ++f) good += predict(keys[j - 1], keys[j], f) >= target;
-        }
-        const int inBetween = frames - static_cast<int>(keys.size());
-        if (ok && inBetween >= 1 && good >= inBetween / 2 + 1 &&
-            (best == 0 || static_cast<int>(keys.size()) < best))
-          best = static_cast<int>(keys.size());
-      }
+      const int best = fewestByBruteForce(frames, minGap, maxGap, [&](int k0, int k1, int f) {
+        return predict(k0, k1, f) >= target ? 1.0 : 0.0;
+      });
       long evals = 0;
       const std::vector<int> dp = fewestKeyframesForMedian(frames, target, minGap, maxGap, predict, &evals);
       ASSERT_EQ(static_cast<int>(dp.size()), best) << frames << " " << minGap << " " << maxGap << " " << target;
@@ -318,27 +333,9 @@ TEST(KeyframePlanner, WalkMedianWithUncertaintyIsTheFewestOverEveryScheduleOfExp
       return table[static_cast<std::size_t>((k0 * frames + k1) * frames + f)];
     };
     for (double target : {26.0, 30.0, 34.0}) {
-      int best = 0;
-      for (unsigned mask = 0; mask < (1u << (frames - 2)); ++mask) {
-        std::vector<int> keys{0};
-        for (int i = 1; i < frames - 1; ++i)
-          if (mask & (1u << (i - 1))) keys.push_back(i);
-        keys.push_back(frames - 1);
-        bool ok = true;
-        double expected = 0;  // summed per segment, in the DP's order (exact ties agree)
-        for (std::size_t j = 1; j < keys.size() && ok; ++j) {
-          const int gap = keys[j] - keys[j - 1];
-          if (gap > maxGap || (gap < minGap && j + 1 < keys.size())) ok = false;
-          double segment = 0;
-          for (int f = keys[j - 1] + 1; ok && f < keys[j]; ++f)
-            segment += err.probabilityAtLeast(predict(keys[j - 1], keys[j], f), target);
-          expected += segment;
-        }
-        const int inBetween = frames - static_cast<int>(keys.size());
-        if (ok && inBetween >= 1 && 2 * expected > inBetween &&
-            (best == 0 || static_cast<int>(keys.size()) < best))
-          best = static_cast<int>(keys.size());
-      }
+      const int best = fewestByBruteForce(frames, minGap, maxGap, [&](int k0, int k1, int f) {
+        return err.probabilityAtLeast(predict(k0, k1, f), target);
+      });
       int good = -1;
       const std::vector<int> dp =
           fewestKeyframesForMedian(frames, target, minGap, maxGap, predict, nullptr, &good, &err);
