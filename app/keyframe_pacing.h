@@ -14,12 +14,13 @@
 namespace hw::app {
 
 // The keyframe beyond the newest one, requested early: once the viewer is
-// nearer the newest keyframe (sNewest away) than the older one (sOlder; a
-// huge value when there is none), i.e. past half way from the older to the
-// newest, the next one is requested at `spacing` beyond the newest
-// (sNewest + spacing from the viewer while it approaches the newest,
-// spacing - sNewest once it is past it). Returns that distance from the
-// viewer, or 0 when it is not time yet (still nearer the older keyframe).
+// `fraction` of the way from the older keyframe (sOlder away; a huge value
+// when there is none) to the newest (sNewest away), i.e. sOlder /
+// (sOlder + sNewest) >= fraction (0.5: nearer the newest; 0: at once), or
+// already past the newest, the next one is requested at `spacing` beyond
+// the newest (sNewest + spacing from the viewer while it approaches the
+// newest, spacing - sNewest once it is past it). Returns that distance from
+// the viewer, or 0 when it is not time yet or nothing is left to place.
 double earlyAheadDistance(double sNewest, double sOlder, bool recedingFromNewest, double spacing,
                           double fraction);
 
