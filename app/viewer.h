@@ -69,27 +69,33 @@ struct ViewerOptions {
   std::shared_ptr<const keyframe::KeyframeDb> keyframeDb;
   // Keyframes rendered and meshed on a worker thread (`view --async-keyframes`,
   // keyframe/gl/async_keyframes.h) with its own context in a hidden window:
-  // when the viewer moves away from its newest keyframe it requests the next
-  // one (the same camera the synchronous viewer would render) and keeps
-  // warping the two it has until the worker hands it over; it never waits
-  // for it unless lost (no keyframe within reach): then it waits for the
-  // one in flight if that one is within reach, else renders one in the
-  // frame. The first keyframe comes from the worker, waited for (loading).
-  // Baked keyframes (keyframeDb) are read as without it.
+  // as soon as the newest keyframe has no successor in flight the viewer
+  // requests the next one, about as far beyond the newest as the
+  // synchronous viewer would place it (app/keyframe_pacing.h), and puts it
+  // into a slot when the synchronous viewer would render one (until then it
+  // warps the two it has); it never waits for it unless lost (no keyframe
+  // within reach): then it waits for the one in flight if that one is
+  // within reach, else renders one in the frame. The first keyframe comes
+  // from the worker, waited for (loading). Baked keyframes (keyframeDb) are
+  // read as without it.
   bool asyncKeyframes = false;
   // How the worker spreads a keyframe over the frames, as `walk
   // --keyframe-pacing` (AsyncKeyframeOptions): Time and Slices allow
-  // budgetScale x (last build ms) / (half the play/default path's
-  // keyframe_every: the viewer's keyframe interval) of worker time per
-  // frame; Steps allows stepsPerFrame steps; None runs flat out. Slices run
-  // after each frame is shown, counted in its time.
+  // budgetScale x (last build ms) / F of worker time per frame, F the
+  // viewer's keyframe interval in frames: at first half the play/default
+  // path's keyframe_every, then the measured interval between its requests,
+  // or fewer frames when at its current speed the viewer would be lost
+  // sooner (app/keyframe_pacing.h; lockstep keeps the first F); Steps
+  // allows stepsPerFrame steps; None runs flat out. Slices run after each
+  // frame is shown, counted in its time.
   enum class KeyframePacing { None, Steps, Time, Slices };
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;
   std::size_t keyframeFlushTriangles = 8192;  // AsyncKeyframeOptions::flushEveryTriangles
-  // Test hook: each worker keyframe is taken (waited for) in the frame that
-  // requests it, so keyframes and frames are the synchronous viewer's.
+  // Test hook: each worker keyframe is requested when the synchronous viewer
+  // would render it and taken (waited for) in that frame, so keyframes and
+  // frames are the synchronous viewer's (no early requests, fixed pacing).
   bool asyncLockstep = false;
   // Frame pacing (`view --frame-budget-ms MS|auto`): after a frame is shown
   // the viewer sleeps until frameBudgetMs (> 0) have passed since the frame

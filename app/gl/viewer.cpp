@@ -7,6 +7,7 @@
 // (keyframe/gl/async_keyframes.h) and the frame only uploads what it hands over.
 #include "app/viewer.h"
 #include "app/fly_pose.h"
+#include "app/keyframe_pacing.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -55,6 +56,16 @@ constexpr double kMessageSeconds = 4.0;
 constexpr double kPassedNewest = 0.25;
 constexpr double kUseless = 2.0;
 constexpr double kLost = 1.5;
+// With the keyframe worker (not lockstep) the keyframe after the newest is
+// requested once the viewer is kEarlyFraction of the way from the older
+// keyframe to the newest (0: as soon as the newest has no successor in
+// flight), kAheadSpacing beyond the newest (about where the synchronous
+// viewer puts it: 1 ahead of a viewer that passed the newest by
+// kPassedNewest), and put into a slot when the synchronous viewer would
+// render it. Measured (indoor, 800x600, 120 frames of --play, 4-8 runs each):
+// stalls 3-6 at 0.5, 1-4 at 0.25, 0-2 at 0.
+constexpr double kAheadSpacing = 1.0 + kPassedNewest;
+constexpr double kEarlyFraction = 0.0;
 constexpr double kRecordStep = 0.25;  // a recorded key every this much s
 
 constexpr const char* kHelp =
@@ -245,7 +256,8 @@ class Viewer {
   Status finishSlot(Slot& slot);
   Status liveKeyframes(FrameStats& st, int& a, int& b);
   Status bakedKeyframes(FrameStats& st, int& a, int& b, bool& used);
-  Camera aheadCamera() const;
+  Camera aheadCamera(double distance = 1.0) const;
+  Camera beyondCamera(const Camera& newest, double spacing, double distance) const;
   Status computePsnr();
   void drawWindow();
   void drawHud();
@@ -276,6 +288,13 @@ class Viewer {
   long pendingSinceFrame_ = 0;
   double pendingSinceMs_ = 0;
   bool workerWarm_ = false;  // its first keyframe was taken (pacing has a build time)
+  // Early requests and measured pacing (not lockstep; app/keyframe_pacing.h).
+  bool workerEarly_ = false;
+  long aheadOfSerial_ = -1;  // newest keyframe whose successor was requested early
+  long lastAheadRequestFrame_ = -1;
+  double requestInterval_ = 0;  // running estimate of frames between ahead requests
+  double pacingFramesMax_ = 1;  // the path's keyframe_every
+  double pacingFrames_ = 0;     // what the worker was last told
   long keyframesFromWorker_ = 0, keyframesDiscarded_ = 0, keyframeStalls_ = 0, waitFrames_ = 0;
   long lastLatencyFrames_ = 0;
   double lastLatencyMs_ = 0, maxStallMs_ = 0;
@@ -503,8 +522,17 @@ Status Viewer::setUp() {
   // The viewer makes a keyframe about every half of the path's keyframe
   // spacing (one 1 unit ahead each time it passes the newest by 0.25, turns
   // counting too: 22 over the 120 frames of the indoor path, keyframe_every
-  // 10), so the worker's pacing spreads one over that many frames.
-  if (opt_.asyncKeyframes) HW_TRY(startWorker(std::max(1.0, 0.5 * path.keyframeEvery)));
+  // 10), so the worker's pacing starts by spreading one over that many
+  // frames; without lockstep it then follows the measured interval between
+  // the viewer's requests and how soon the viewer would be lost
+  // (workerPacingFrames), at most keyframe_every frames.
+  if (opt_.asyncKeyframes) {
+    pacingFrames_ = std::max(1.0, 0.5 * path.keyframeEvery);
+    requestInterval_ = pacingFrames_;
+    pacingFramesMax_ = std::max(1.0, static_cast<double>(path.keyframeEvery));
+    workerEarly_ = !opt_.asyncLockstep;
+    HW_TRY(startWorker(pacingFrames_));
+  }
   // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
   records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
@@ -894,9 +922,9 @@ void Viewer::updateCamera(double dt) {
   }
 }
 
-// Where the viewer will be when it is one pose-distance unit away: the path's
-// camera when playing, else the current motion extrapolated.
-Camera Viewer::aheadCamera() const {
+// Where the viewer will be when it is `distance` pose-distance units away:
+// the path's camera when playing, else the current motion extrapolated.
+Camera Viewer::aheadCamera(double distance) const {
   if (play_ && playCams_.size() > 1) {
     const int n = static_cast<int>(playCams_.size());
     Camera best = cam_;
@@ -905,20 +933,41 @@ Camera Viewer::aheadCamera() const {
       const Camera& c = playCams_[static_cast<std::size_t>((playIndex_ + k) % n)];
       const double s = poseDistance(c, cam_);
       if (s > bestS) best = c, bestS = s;
-      if (s >= 1.0) break;
+      if (s >= distance) break;
     }
     return sized(best);
   }
   const double rate = glm::length(velocity_) / kfDistance_ +
                       std::sqrt(yawRate_ * yawRate_ + pitchRate_ * pitchRate_) / kfAngle_;
   if (!(rate > 1e-9)) return cam_;
-  const double t = 1.0 / rate;
+  const double t = distance / rate;
   const glm::dvec3 eye = cam_.eye + velocity_ * t;
   const double yaw = std::atan2(cam_.forward.x, -cam_.forward.z) + yawRate_ * t;
   const double pitch = std::clamp(std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) + pitchRate_ * t,
                                   -kMaxFlyPitch, kMaxFlyPitch);
   return Camera::lookAt(eye, eye + flyForward(yaw, pitch), glm::dvec3(0, 1, 0), cam_.fovYRadians,
                         width_, height_, cam_.nearPlane, cam_.farPlane);
+}
+
+// The keyframe after `newest`, `spacing` beyond it: playing, the first
+// camera of the path after the viewer that is that far from the newest and
+// farther from the viewer than the newest (so past it; pose distance along a
+// bending path is not additive, so the distance from the viewer would not
+// do); else the motion extrapolated to `distance` from the viewer.
+Camera Viewer::beyondCamera(const Camera& newest, double spacing, double distance) const {
+  if (!(play_ && playCams_.size() > 1)) return aheadCamera(distance);
+  const int n = static_cast<int>(playCams_.size());
+  const double sNewest = poseDistance(newest, cam_);
+  Camera best = cam_;
+  double bestS = -1;
+  for (int k = 0; k < n - 1; ++k) {
+    const Camera& c = playCams_[static_cast<std::size_t>((playIndex_ + k) % n)];
+    if (poseDistance(c, cam_) <= sNewest) continue;  // not past the newest yet
+    const double s = poseDistance(c, newest);
+    if (s > bestS) best = c, bestS = s;
+    if (s >= spacing) break;
+  }
+  return sized(best);
 }
 
 Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
@@ -1041,27 +1090,53 @@ Status Viewer::bakedKeyframes(FrameStats& st, int& a, int& b, bool& used) {
 // re-render where the viewer stands when no keyframe is close (first frame,
 // jumps, turns the prediction missed). With the worker the keyframe ahead is
 // requested instead, and put in when it is ready (until then the two older
-// ones are warped); only a lost viewer renders one in the frame.
+// ones are warped); only a lost viewer renders one in the frame. Without
+// lockstep the next one is requested earlier (kEarlyFraction: as soon as the
+// newest has no successor in flight), kAheadSpacing beyond the newest, and
+// put in when ready and wanted (the synchronous viewer would render one
+// now, the viewer is lost, or it is nearer than the keyframe it replaces);
+// the worker's pacing follows the viewer (workerPacingFrames).
 Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
-  if (worker_) HW_TRY(takeFromWorker(st, /*wait=*/false));
+  if (worker_ && !workerEarly_) HW_TRY(takeFromWorker(st, /*wait=*/false));
   int nearest = -1, newest = -1, useful = 0;
-  double sNearest = 1e300;
-  std::array<double, 2> s{1e300, 1e300};
-  for (int i = 0; i < 2; ++i) {
-    const Slot& sl = slots_[static_cast<std::size_t>(i)];
-    if (!sl.valid) continue;
-    s[static_cast<std::size_t>(i)] = poseDistance(sl.kf.camera, cam_);
-    if (s[static_cast<std::size_t>(i)] < sNearest)
-      nearest = i, sNearest = s[static_cast<std::size_t>(i)];
-    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
-    if (s[static_cast<std::size_t>(i)] < kUseless) ++useful;
+  double sNearest = 1e300, sNewest = 1e300, sOther = 1e300, sFarthest = 1e300;
+  bool recedingFromNewest = false, wanted = false, lost = true;
+  auto survey = [&] {
+    nearest = -1, newest = -1, useful = 0;
+    sNearest = 1e300;
+    std::array<double, 2> s{1e300, 1e300};
+    for (int i = 0; i < 2; ++i) {
+      const Slot& sl = slots_[static_cast<std::size_t>(i)];
+      if (!sl.valid) continue;
+      s[static_cast<std::size_t>(i)] = poseDistance(sl.kf.camera, cam_);
+      if (s[static_cast<std::size_t>(i)] < sNearest)
+        nearest = i, sNearest = s[static_cast<std::size_t>(i)];
+      if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
+      if (s[static_cast<std::size_t>(i)] < kUseless) ++useful;
+    }
+    sNewest = newest >= 0 ? s[static_cast<std::size_t>(newest)] : 1e300;
+    sOther = newest >= 0 ? s[static_cast<std::size_t>(1 - newest)] : 1e300;
+    sFarthest = std::max(s[0], s[1]);
+    const bool newestSame =
+        newest >= 0 && slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_;
+    recedingFromNewest = newestSame && sNewest > newestSPrev_;
+    lost = nearest < 0 || sNearest > kLost;
+    wanted = moving_ && (useful < 2 || (nearest == newest && sNewest > kPassedNewest &&
+                                        recedingFromNewest));
+  };
+  survey();
+  // Early mode: the keyframe in hand goes in when the synchronous viewer
+  // would render one, the viewer is lost, or it is nearer the viewer than
+  // the keyframe it would replace; not before, so the viewer keeps the
+  // keyframe behind it until it has passed the newest.
+  if (workerEarly_ && pendingId_ >= 0 &&
+      (wanted || lost || poseDistance(pendingCam_, cam_) < sFarthest) &&
+      worker_->finished(pendingId_)) {
+    HW_TRY(takeFromWorker(st, /*wait=*/false));
+    survey();
   }
-  const double sNewest = newest >= 0 ? s[static_cast<std::size_t>(newest)] : 1e300;
-  const bool newestSame =
-      newest >= 0 && slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_;
-  const bool recedingFromNewest = newestSame && sNewest > newestSPrev_;
   Stopwatch kt;
-  if (nearest < 0 || sNearest > kLost) {
+  if (lost) {
     const int target = nearest < 0 ? 0 : 1 - nearest;
     // Loading: the first keyframe comes from the worker, waited for (the
     // walk's warm-up), so its pacing knows what a keyframe costs.
@@ -1076,8 +1151,7 @@ Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
       HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(target)], cam_));
       st.builtKeyframe = true;
     }
-  } else if (moving_ &&
-             (useful < 2 || (nearest == newest && sNewest > kPassedNewest && recedingFromNewest))) {
+  } else if (wanted) {
     const Camera ahead = aheadCamera();
     if (worker_ && pendingId_ >= 0) {
       st.waitedForKeyframe = true;  // warp the two we have meanwhile
@@ -1090,6 +1164,44 @@ Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
         HW_TRY(buildKeyframe(slots_[static_cast<std::size_t>(1 - nearest)], ahead));
         st.builtKeyframe = true;
       }
+    }
+  } else if (workerEarly_ && moving_ && pendingId_ < 0 && newest >= 0 &&
+             slots_[static_cast<std::size_t>(newest)].serial != aheadOfSerial_) {
+    // Past the newest or still before it: this frame's motion tells (the
+    // newest may have come in this frame, so the last frame's distance to
+    // it is not known).
+    const Camera& nc = slots_[static_cast<std::size_t>(newest)].kf.camera;
+    const double d = earlyAheadDistance(sNewest, sOther, sNewest > poseDistance(nc, prevCam_),
+                                        kAheadSpacing, kEarlyFraction);
+    if (d > 0) {
+      const Camera ahead = beyondCamera(nc, kAheadSpacing, d);
+      // Not one the viewer is already at (the path's end, a stop).
+      if (poseDistance(ahead, cam_) > kPassedNewest) {
+        requestFromWorker(ahead);
+        st.requestedKeyframe = pendingId_ >= 0;
+        if (st.requestedKeyframe) aheadOfSerial_ = slots_[static_cast<std::size_t>(newest)].serial;
+      }
+    }
+  }
+  if (workerEarly_) {
+    // Pacing: the measured interval between ahead requests, or fewer frames
+    // when the viewer would be lost sooner at its current pace.
+    if (st.requestedKeyframe) {
+      if (lastAheadRequestFrame_ >= 0)
+        requestInterval_ = updateRequestInterval(
+            requestInterval_, static_cast<double>(frameIndex_ - lastAheadRequestFrame_));
+      lastAheadRequestFrame_ = frameIndex_;
+    }
+    double toLost = kLost;  // no keyframe yet: as if at the newest
+    if (newest >= 0) {
+      const Camera& nc = slots_[static_cast<std::size_t>(newest)].kf.camera;
+      toLost = sNewest > poseDistance(nc, prevCam_) ? kLost - sNewest : kLost + sNewest;
+    }
+    const double frames = workerPacingFrames(requestInterval_, toLost, poseDistance(cam_, prevCam_),
+                                             pacingFramesMax_);
+    if (std::abs(frames - pacingFrames_) > 0.01 * pacingFrames_) {
+      pacingFrames_ = frames;
+      worker_->setFramesPerKeyframe(frames);
     }
   }
   if (st.builtKeyframe) st.keyframeMs = kt.ms();

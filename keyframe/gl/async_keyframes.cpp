@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "core/check.h"
@@ -22,6 +23,7 @@ Result<std::unique_ptr<AsyncKeyframes>> AsyncKeyframes::create(
   std::unique_ptr<AsyncKeyframes> a(new AsyncKeyframes());
   a->cameraOf_ = std::move(cameraOf);
   a->options_ = options;
+  a->framesPerKeyframe_.store(options.framesPerKeyframe, std::memory_order_relaxed);
   Status init;
   a->thread_ = std::thread(&AsyncKeyframes::run, a.get(), &scene, &init);
   {
@@ -71,9 +73,10 @@ void AsyncKeyframes::pace() {
   if (options_.framesPerKeyframe > 0) {
     endStep();
     std::unique_lock lock(mutex_);
-    const double budget =
-        std::max(0.5, options_.budgetScale * lastBuildMs_ / options_.framesPerKeyframe);
+    // Read in every check: setFramesPerKeyframe() applies at once.
     auto settle = [&] {  // each new frame pays back one budget
+      const double budget = std::max(0.5, options_.budgetScale * lastBuildMs_ /
+                                              framesPerKeyframe_.load(std::memory_order_relaxed));
       if (ticks_ > paidTicks_) {
         debtMs_ = std::max(0.0, debtMs_ - budget * static_cast<double>(ticks_ - paidTicks_));
         paidTicks_ = ticks_;
@@ -111,8 +114,8 @@ double AsyncKeyframes::runSlice() {
   // The share of a frame; a slice ends after the step that uses it up, so
   // what a slice ran over is taken off the next one (the slices average the
   // share instead of share + half a step).
-  const double share =
-      std::max(0.5, options_.budgetScale * sharedLastBuildMs_ / options_.framesPerKeyframe);
+  const double share = std::max(0.5, options_.budgetScale * sharedLastBuildMs_ /
+                                         framesPerKeyframe_.load(std::memory_order_relaxed));
   if (sliceDebtMs_ >= share) {
     sliceDebtMs_ -= share;
     return 0.0;
@@ -127,6 +130,15 @@ double AsyncKeyframes::runSlice() {
   sliceOpen_ = false;
   sliceDebtMs_ = parked_ ? std::max(0.0, sliceUsedMs_ - sliceBudgetMs_) : 0.0;
   return sw.ms();
+}
+
+void AsyncKeyframes::setFramesPerKeyframe(double frames) {
+  if (!(options_.framesPerKeyframe > 0) || !(frames > 0) || !std::isfinite(frames)) return;
+  {
+    std::lock_guard lock(mutex_);  // a worker between its check and its wait sees it
+    framesPerKeyframe_.store(frames, std::memory_order_relaxed);
+  }
+  workCv_.notify_all();  // a larger budget may let a paced worker go on
 }
 
 void AsyncKeyframes::frameTick() {

@@ -106,6 +106,12 @@ class AsyncKeyframes final : public KeyframeProducer {
 
   // The main thread started a frame (pacing; see stepsPerFrame).
   void frameTick();
+  // Time pacing and slices: spread a keyframe over this many frames from now
+  // on instead of AsyncKeyframeOptions::framesPerKeyframe (> 0; any thread),
+  // e.g. the viewer's measured keyframe interval. Ignored when the worker
+  // was created without framesPerKeyframe (no time pacing) or frames <= 0.
+  void setFramesPerKeyframe(double frames);
+  double framesPerKeyframe() const { return framesPerKeyframe_.load(std::memory_order_relaxed); }
   // Wall ms of the worker's steps (render pieces, readback, mesh-build steps)
   // that ended since the last frameTick(): the keyframe work that ran beside
   // (or, with slices, inside) the current frame. A step still running is not
@@ -154,7 +160,8 @@ class AsyncKeyframes final : public KeyframeProducer {
   double sliceBudgetMs_ = 0, sliceUsedMs_ = 0, lastStepMs_ = 0, sharedLastBuildMs_ = 0;
   double sliceDebtMs_ = 0;  // what the last slice ran over its budget
   Stopwatch clock_;
-  std::atomic<double> tickBusyMs_{0};  // see workerMsSinceTick()
+  std::atomic<double> tickBusyMs_{0};         // see workerMsSinceTick()
+  std::atomic<double> framesPerKeyframe_{0};  // see setFramesPerKeyframe()
   int built_ = 0;
   double busyMs_ = 0;
   std::thread thread_;

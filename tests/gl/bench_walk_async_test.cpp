@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -279,6 +280,49 @@ TEST_F(AsyncKeyframesTest, APacedWorkerStillDeliversWhenAFrameWaitsForIt) {
     }
     EXPECT_TRUE((*w)->ready(5));  // ticks alone get it done
   }
+}
+
+// The viewer re-paces its worker from the keyframe interval it measures
+// (app/keyframe_pacing.h): a new frames-per-keyframe applies at once, also
+// to a worker already waiting for its next frame's budget.
+TEST_F(AsyncKeyframesTest, SetFramesPerKeyframeAppliesToAWaitingWorker) {
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
+  keyframe::AsyncKeyframeOptions ao;
+  ao.framesPerKeyframe = 1000;  // a tiny budget per frame
+  ao.budgetScale = 1;
+  ao.flushEveryTriangles = 1000;  // many steps per keyframe
+  auto w = keyframe::AsyncKeyframes::create(
+      in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  EXPECT_EQ((*w)->framesPerKeyframe(), 1000.0);
+  std::unique_ptr<keyframe::CachedKeyframe> e;
+  double waited = 0;
+  ASSERT_TRUE((*w)->take(0, &e, &waited).ok());  // a build time for the budget
+  ASSERT_TRUE((*w)->request(5));
+  (*w)->frameTick();
+  // No more ticks: at 1000 frames per keyframe the worker used this frame's
+  // budget and waits for the next; at 0.001 one frame's budget is a
+  // thousand keyframes, so it finishes.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_FALSE((*w)->ready(5));
+  (*w)->setFramesPerKeyframe(0.001);
+  EXPECT_EQ((*w)->framesPerKeyframe(), 0.001);
+  for (int t = 0; t < 2000 && !(*w)->ready(5); ++t)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_TRUE((*w)->ready(5));
+  // Nonsense values are ignored.
+  (*w)->setFramesPerKeyframe(0);
+  (*w)->setFramesPerKeyframe(-3);
+  (*w)->setFramesPerKeyframe(std::nan(""));
+  EXPECT_EQ((*w)->framesPerKeyframe(), 0.001);
+  // Without time pacing there is nothing to set.
+  keyframe::AsyncKeyframeOptions steps;
+  steps.stepsPerFrame = 2;
+  auto s = keyframe::AsyncKeyframes::create(
+      in.scene, [&](int i) { return in.path.cameraAt(i); }, steps);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  (*s)->setFramesPerKeyframe(3);
+  EXPECT_EQ((*s)->framesPerKeyframe(), 0.0);
 }
 
 TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
