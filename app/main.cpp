@@ -912,8 +912,9 @@ int main(int argc, char** argv) {
                     "With s s, the statistics show keyframe stalls and waits");
   viewCmd->add_option("--keyframe-pacing", viewPacing,
                       "With --async-keyframes, as for walk: time (per frame the worker may take "
-                      "budget-scale x last build ms / (keyframe_every / 2 of the path, the "
-                      "viewer's keyframe interval in frames) of wall time), "
+                      "budget-scale x last build ms / F of wall time, F = the frames the "
+                      "viewer takes per keyframe: measured from its requests, at most the frames "
+                      "until it would be lost, starting from keyframe_every / 2 of the path), "
                       "slices (the same budget, run after each frame is shown, counted in its "
                       "time), steps (--keyframe-steps-per-frame steps per frame) or none (as fast "
                       "as it can)")
