@@ -53,14 +53,17 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
     cw.walkMs = sw.ms();
     for (const json& f : res->report["frames"]) {
       if (f["is_keyframe"].get<bool>()) continue;
+      ++cw.inBetween;
+      // Identical to the reference (PSNR +inf, null in the report): no error
+      // to fit; a stand-in like the walk's 99 dB would pull the line.
+      if (!f["psnr"].is_number()) continue;
       keyframe::CalibrationSample s;
       s.k0 = f["keyframes"][0].get<int>();
       s.k1 = f["keyframes"][1].get<int>();
       s.frame = f["index"].get<int>();
-      s.psnrDb = f["psnr"].is_number() ? f["psnr"].get<double>() : 99.0;  // identical, as the walk
+      s.psnrDb = f["psnr"].get<double>();
       cal.samples.push_back(s);
       cal.spacing.push_back(g);
-      ++cw.inBetween;
     }
     const json& med = res->report["summary"]["psnr"]["median"];
     cw.psnrMedian = med.is_number() ? med.get<double>() : std::nan("");
@@ -89,7 +92,7 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
     for (std::size_t i = 0; i < cal.samples.size(); ++i) {
       if (cal.spacing[i] != w.spacing || i >= fit.predictedDb.size()) continue;
       const double x = fit.predictedDb[i], y = cal.samples[i].psnrDb;
-      if (!std::isfinite(x) || !std::isfinite(y) || y >= 99.0) continue;
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
       s.x.push_back(x), s.y.push_back(y);
       lo = std::min({lo, x, y}), hi = std::max({hi, x, y});
     }

@@ -33,8 +33,9 @@ struct CalibrationWalk {
 
 struct ScheduleCalibration {
   std::vector<CalibrationWalk> walks;  // in the order of the spacings
-  // Every in-between frame of every walk (a frame in several walks appears
-  // once per walk); spacing[i] is the walk samples[i] came from.
+  // Every in-between frame of every walk with a finite PSNR (a frame
+  // identical to the reference has no error to fit; a frame in several walks
+  // appears once per walk); spacing[i] is the walk samples[i] came from.
   std::vector<keyframe::CalibrationSample> samples;
   std::vector<int> spacing;
 };

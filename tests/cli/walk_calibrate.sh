@@ -42,6 +42,8 @@ expect(abs(walks[10]["psnr_median"] - fixed["psnr"]["median"]) < 1e-9,
 expect(p["target_psnr"] == walks[10]["psnr_median"], "target = the every-10 median")
 expect(p["target_source"] == "fixed:10", "target_source fixed:10, got %s" % p["target_source"])
 rows = list(csv.DictReader(open(t + "/cal/calibration.csv")))
+# (No frame of this path is identical to its reference, so every in-between
+# frame is a sample.)
 expect(len(rows) == c["samples"] == sum(w["in_between"] for w in c["walks"]),
        "CSV rows %d = samples %d = in-between frames" % (len(rows), c["samples"]))
 expect(all(int(r["k0"]) < int(r["frame"]) < int(r["k1"]) for r in rows), "k0 < frame < k1")
