@@ -335,8 +335,8 @@ struct PlanResult {
 };
 
 // The features predictor `p` reads for (k0, k1, frame): probeMse (and
-// relDistance) alone for the probe predictors, KeyframeProbe::features()
-// for the others.
+// relDistance) alone for probe-psnr (+distance), KeyframeProbe::features()
+// and probeMse for probe-psnr+features, features() for the others.
 Result<FrameFeatures> predictorFeatures(KeyframeProbe& probe, Predictor p, int k0, int k1,
                                         int frame);
 
@@ -349,8 +349,8 @@ struct CalibrationSample {
   double psnrDb = 0;
 };
 // The predictor refitted to measured frames of this scene, path and
-// resolution (the default fits come from one scene at 512², where a target's
-// dB do not carry over to another scene: see defaultFit).
+// resolution (the default fits come from the indoor scene, and a target's dB
+// do not carry over to another scene or resolution: see defaultFit).
 struct PredictorCalibration {
   PsnrFit fit;
   double residualStdDb = 0;  // of measured − predicted, n − (regressors + 1) dof
