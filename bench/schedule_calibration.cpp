@@ -184,10 +184,7 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
   po.xLabel = "frame";
   po.yLabel = "PSNR, dB";
   if (auto st = writePlot(outDir + "/planned.png", {meas, pred, target, keys}, po); !st) return st.error();
-  if (predicted.empty()) return std::nan("");
-  std::sort(predicted.begin(), predicted.end());
-  const std::size_t n = predicted.size();
-  return n % 2 ? predicted[n / 2] : 0.5 * (predicted[n / 2 - 1] + predicted[n / 2]);
+  return median(std::move(predicted));  // NaN when empty
 }
 
 json calibrationJson(const ScheduleCalibration& cal, const keyframe::PredictorCalibration& fit) {
