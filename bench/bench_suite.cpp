@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "bench/skip_study.h"
 #include "bench/walk.h"
@@ -18,8 +19,6 @@ namespace hw::bench {
 namespace {
 
 using nlohmann::json;
-
-double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
 
 std::string sizeLabel(std::size_t n) {
   if (n >= 1000000 && n % 1000000 == 0) return std::to_string(n / 1000000) + "M";
@@ -107,9 +106,11 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
           complexity.push_back(row);
           csvA += name + "," + std::to_string(scene.triangleCount()) + "," + fmt(tau, 0) + "," +
                   fmt(median(ms)) + "," + fmt(percentile(ms, 95)) + "," +
-                  fmt(num(s["in_between_ms"]["median"])) + "," + fmt(num(s["in_between_ms"]["p95"])) +
-                  "," + fmt(num(s["reference_ms"]["median"])) + "," + fmt(num(s["psnr"]["median"])) +
-                  "," + fmt(num(s["quads_per_keyframe"]["median"]), 0) + "\n";
+                  fmt(numberOrNan(s["in_between_ms"]["median"])) + "," +
+                  fmt(numberOrNan(s["in_between_ms"]["p95"])) + "," +
+                  fmt(numberOrNan(s["reference_ms"]["median"])) + "," +
+                  fmt(numberOrNan(s["psnr"]["median"])) + "," +
+                  fmt(numberOrNan(s["quads_per_keyframe"]["median"]), 0) + "\n";
         }
       }
     }
@@ -120,8 +121,8 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
         g.label = "geometry, " + name;
         for (const json& r : complexity)
           if (r["scene"] == name && r["tau"].get<double>() == opt.taus.front()) {
-            g.x.push_back(num(r["triangles"]));
-            g.y.push_back(num(r["geometry_ms"]["median"]));
+            g.x.push_back(numberOrNan(r["triangles"]));
+            g.y.push_back(numberOrNan(r["geometry_ms"]["median"]));
           }
         series.push_back(g);
         for (double tau : opt.taus) {
@@ -129,8 +130,8 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
           h.label = "in-between, " + name + ", tau " + tauLabel(tau);
           for (const json& r : complexity)
             if (r["scene"] == name && r["tau"].get<double>() == tau) {
-              h.x.push_back(num(r["triangles"]));
-              h.y.push_back(num(r["in_between_ms"]["median"]));
+              h.x.push_back(numberOrNan(r["triangles"]));
+              h.y.push_back(numberOrNan(r["in_between_ms"]["median"]));
             }
           series.push_back(h);
         }
@@ -175,25 +176,27 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
       warpB.label = "warp B";
       comp.label = "compose";
       for (const json& f : res->report["frames"]) {
-        const double i = num(f["index"]);
+        const double i = numberOrNan(f["index"]);
         const bool isKey = f["is_keyframe"].get<bool>();
         (isKey ? keyframes : total).x.push_back(i);
-        (isKey ? keyframes : total).y.push_back(num(f["ms"]["total"]));
+        (isKey ? keyframes : total).y.push_back(numberOrNan(f["ms"]["total"]));
         reference.x.push_back(i);
-        reference.y.push_back(num(f["reference_ms"]));
+        reference.y.push_back(numberOrNan(f["reference_ms"]));
         if (!isKey) {
           warpA.x.push_back(i);
-          warpA.y.push_back(num(f["ms"]["warp_a"]));
+          warpA.y.push_back(numberOrNan(f["ms"]["warp_a"]));
           warpB.x.push_back(i);
-          warpB.y.push_back(num(f["ms"]["warp_b"]));
+          warpB.y.push_back(numberOrNan(f["ms"]["warp_b"]));
           comp.x.push_back(i);
-          comp.y.push_back(num(f["ms"]["compose"]));
+          comp.y.push_back(numberOrNan(f["ms"]["compose"]));
         }
-        csvB += std::to_string(int(i)) + "," + (isKey ? "1" : "0") + "," + fmt(num(f["ms"]["total"]), 3) +
-                "," + fmt(num(f["reference_ms"]), 3) + "," +
-                (isKey ? "" : fmt(num(f["ms"]["warp_a"]), 3)) + "," +
-                (isKey ? "" : fmt(num(f["ms"]["warp_b"]), 3)) + "," +
-                (isKey ? "" : fmt(num(f["ms"]["compose"]), 3)) + "," + fmt(num(f["psnr"])) + "\n";
+        csvB += std::to_string(int(i)) + "," + (isKey ? "1" : "0") + "," +
+                fmt(numberOrNan(f["ms"]["total"]), 3) + "," +
+                fmt(numberOrNan(f["reference_ms"]), 3) + "," +
+                (isKey ? "" : fmt(numberOrNan(f["ms"]["warp_a"]), 3)) + "," +
+                (isKey ? "" : fmt(numberOrNan(f["ms"]["warp_b"]), 3)) + "," +
+                (isKey ? "" : fmt(numberOrNan(f["ms"]["compose"]), 3)) + "," +
+                fmt(numberOrNan(f["psnr"])) + "\n";
       }
       PlotOptions po;
       po.title = "Walkthrough trace: " + opt.traceScene + " " + sizeLabel(traceTris) + ", tau 2^11";
@@ -225,13 +228,14 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
                          {"ssim", s["ssim"]}, {"holes_before_fallback", s["holes_before_fallback"]},
                          {"in_between_ms", s["in_between_ms"]}});
       psnrMed.x.push_back(every);
-      psnrMed.y.push_back(num(s["psnr"]["median"]));
+      psnrMed.y.push_back(numberOrNan(s["psnr"]["median"]));
       psnrP5.x.push_back(every);
-      psnrP5.y.push_back(num(s["psnr"]["p5"]));
+      psnrP5.y.push_back(numberOrNan(s["psnr"]["p5"]));
       csvC += std::to_string(every) + "," + std::to_string(s["keyframes"].get<int>()) + "," +
-              fmt(num(s["psnr"]["median"])) + "," + fmt(num(s["psnr"]["p5"])) + "," +
-              fmt(num(s["ssim"]["median"]), 4) + "," + fmt(num(s["holes_before_fallback"]["median"]), 5) +
-              "," + fmt(num(s["in_between_ms"]["median"])) + "\n";
+              fmt(numberOrNan(s["psnr"]["median"])) + "," + fmt(numberOrNan(s["psnr"]["p5"])) +
+              "," + fmt(numberOrNan(s["ssim"]["median"]), 4) + "," +
+              fmt(numberOrNan(s["holes_before_fallback"]["median"]), 5) + "," +
+              fmt(numberOrNan(s["in_between_ms"]["median"])) + "\n";
     }
     {
       PlotOptions po;
@@ -286,11 +290,13 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
   page.images({"complexity.png"});
   std::vector<std::vector<std::string>> rowsA;
   for (const json& r : complexity)
-    rowsA.push_back({r["scene"].get<std::string>(), std::to_string(r["triangles"].get<std::size_t>()),
-                     tauLabel(num(r["tau"])), fmt(num(r["geometry_ms"]["median"])),
-                     fmt(num(r["in_between_ms"]["median"])), fmt(num(r["in_between_ms"]["p95"])),
-                     fmt(num(r["speedup"]["median"]), 1), fmt(num(r["psnr"]["median"])),
-                     fmt(num(r["quads_per_keyframe"]["median"]), 0)});
+    rowsA.push_back(
+        {r["scene"].get<std::string>(), std::to_string(r["triangles"].get<std::size_t>()),
+         tauLabel(numberOrNan(r["tau"])), fmt(numberOrNan(r["geometry_ms"]["median"])),
+         fmt(numberOrNan(r["in_between_ms"]["median"])),
+         fmt(numberOrNan(r["in_between_ms"]["p95"])), fmt(numberOrNan(r["speedup"]["median"]), 1),
+         fmt(numberOrNan(r["psnr"]["median"])),
+         fmt(numberOrNan(r["quads_per_keyframe"]["median"]), 0)});
   page.table({"scene", "triangles", "tau", "geometry ms", "in-between ms", "in-between p95",
               "speedup", "PSNR dB", "quads/keyframe"},
              rowsA);
@@ -298,19 +304,21 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
   if (want("trace") || want("spacing")) {
   page.heading("(b) Walkthrough trace");
   page.images({"trace.png"});
-  page.paragraph("In-between ms median " + fmt(num(trace["in_between_ms"]["median"])) + ", p95 " +
-                 fmt(num(trace["in_between_ms"]["p95"])) + "; geometry median " +
-                 fmt(num(trace["reference_ms"]["median"])) + ", p95 " +
-                 fmt(num(trace["reference_ms"]["p95"])) + "; keyframe build median " +
-                 fmt(num(trace["keyframe_build_ms"]["median"])) + " ms.");
+  page.paragraph("In-between ms median " + fmt(numberOrNan(trace["in_between_ms"]["median"])) +
+                 ", p95 " + fmt(numberOrNan(trace["in_between_ms"]["p95"])) + "; geometry median " +
+                 fmt(numberOrNan(trace["reference_ms"]["median"])) + ", p95 " +
+                 fmt(numberOrNan(trace["reference_ms"]["p95"])) + "; keyframe build median " +
+                 fmt(numberOrNan(trace["keyframe_build_ms"]["median"])) + " ms.");
   page.heading("(c) Keyframe spacing");
   page.images({"spacing.png"});
   std::vector<std::vector<std::string>> rowsC;
   for (const json& r : spacing)
-    rowsC.push_back({std::to_string(r["keyframe_every"].get<int>()), std::to_string(r["keyframes"].get<int>()),
-                     fmt(num(r["psnr"]["median"])), fmt(num(r["psnr"]["p5"])),
-                     fmt(num(r["ssim"]["median"]), 4), fmt(100 * num(r["holes_before_fallback"]["median"]), 3),
-                     fmt(num(r["in_between_ms"]["median"]))});
+    rowsC.push_back({std::to_string(r["keyframe_every"].get<int>()),
+                     std::to_string(r["keyframes"].get<int>()),
+                     fmt(numberOrNan(r["psnr"]["median"])), fmt(numberOrNan(r["psnr"]["p5"])),
+                     fmt(numberOrNan(r["ssim"]["median"]), 4),
+                     fmt(100 * numberOrNan(r["holes_before_fallback"]["median"]), 3),
+                     fmt(numberOrNan(r["in_between_ms"]["median"]))});
   page.table({"keyframe_every", "keyframes", "PSNR median", "PSNR p5", "SSIM", "holes %", "in-between ms"},
              rowsC);
   }
@@ -326,16 +334,20 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
     for (const json& r : skips["rows"])
       rowsD.push_back({r["scene"].get<std::string>(), r["skip"].get<std::string>(),
                        r["default"].get<std::string>(),
-                       r.contains("fired_frames") ? std::to_string(r["fired_frames"].get<int>()) + "/" +
-                                                        std::to_string(r["in_between_frames"].get<int>())
-                                                  : "",
-                       fmt(num(r["on"]["in_between_ms_median"])), fmt(num(r["off"]["in_between_ms_median"])),
-                       fmt(num(r["on"]["psnr_median"])) + " (" + fmt(num(r["on"]["psnr_p5"])) + ")",
-                       fmt(num(r["off"]["psnr_median"])) + " (" + fmt(num(r["off"]["psnr_p5"])) + ")",
-                       fmt(num(r["on"]["psnr_large_quads_median"])) + " (" +
-                           fmt(num(r["on"]["psnr_large_quads_p5"])) + ")",
-                       fmt(num(r["off"]["psnr_large_quads_median"])) + " (" +
-                           fmt(num(r["off"]["psnr_large_quads_p5"])) + ")"});
+                       r.contains("fired_frames")
+                           ? std::to_string(r["fired_frames"].get<int>()) + "/" +
+                                 std::to_string(r["in_between_frames"].get<int>())
+                           : "",
+                       fmt(numberOrNan(r["on"]["in_between_ms_median"])),
+                       fmt(numberOrNan(r["off"]["in_between_ms_median"])),
+                       fmt(numberOrNan(r["on"]["psnr_median"])) + " (" +
+                           fmt(numberOrNan(r["on"]["psnr_p5"])) + ")",
+                       fmt(numberOrNan(r["off"]["psnr_median"])) + " (" +
+                           fmt(numberOrNan(r["off"]["psnr_p5"])) + ")",
+                       fmt(numberOrNan(r["on"]["psnr_large_quads_median"])) + " (" +
+                           fmt(numberOrNan(r["on"]["psnr_large_quads_p5"])) + ")",
+                       fmt(numberOrNan(r["off"]["psnr_large_quads_median"])) + " (" +
+                           fmt(numberOrNan(r["off"]["psnr_large_quads_p5"])) + ")"});
     page.table({"scene", "skip", "default", "fired", "ms on", "ms off", "PSNR on", "PSNR off",
                 "large-quad PSNR on", "large-quad PSNR off"},
                rowsD);

@@ -12,6 +12,12 @@ inline nlohmann::json finiteOrNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
+// j as a double, or NaN when it is not a number (e.g. the null finiteOrNull
+// writes): the inverse of finiteOrNull when reading a report back.
+inline double numberOrNan(const nlohmann::json& j) {
+  return j.is_number() ? j.get<double>() : std::nan("");
+}
+
 // A predictor fit: {"intercept", "slope", "slope2"} (null when not finite),
 // and "more" (the slopes of regressors 3..) only when the fit has them.
 inline nlohmann::json fitJson(const keyframe::PsnrFit& f) {

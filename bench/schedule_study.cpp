@@ -20,8 +20,6 @@ namespace {
 using keyframe::Predictor;
 using nlohmann::json;
 
-double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-
 // Per in-between frame of a walk: its bracketing keyframes and measured PSNR.
 struct FrameSample {
   int frame = 0, k0 = 0, k1 = 0;
@@ -110,8 +108,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     run.summary = res->report["summary"];
     run.keyframes = run.summary["keyframe_frames"].get<std::vector<int>>();
     run.kfPer100 = 100.0 * static_cast<double>(run.keyframes.size()) / frames;
-    run.psnrMedian = num(run.summary["psnr"]["median"]);
-    run.psnrP5 = num(run.summary["psnr"]["p5"]);
+    run.psnrMedian = numberOrNan(run.summary["psnr"]["median"]);
+    run.psnrP5 = numberOrNan(run.summary["psnr"]["p5"]);
     for (const json& f : res->report["frames"]) {
       if (f["is_keyframe"].get<bool>()) continue;
       FrameSample s;
@@ -335,8 +333,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
                  (fixed ? "" : fmt(r.param)) + "," + std::to_string(r.keyframes.size()) + "," +
                  fmt(r.kfPer100) + "," + fmt(r.psnrMedian) + "," + fmt(r.psnrP5) + "," +
                  fmt(r.predictedMin) + "," + fmt(r.predictedMedian) + "," +
-                 fmt(num(r.summary["in_between_ms"]["median"])) + "," + fmt(r.planMs, 1) + "," +
-                 fmt(r.probeRenderMs, 1) + "," + std::to_string(r.probes) + "," +
+                 fmt(numberOrNan(r.summary["in_between_ms"]["median"])) + "," + fmt(r.planMs, 1) +
+                 "," + fmt(r.probeRenderMs, 1) + "," + std::to_string(r.probes) + "," +
                  std::to_string(r.evaluations) + "\n";
     }
 
@@ -448,19 +446,21 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   std::vector<std::vector<std::string>> rows;
   for (const json& r : runsJson)
     rows.push_back({r["schedule"].get<std::string>(),
-                    r["keyframe_every"].is_null() ? "" : fmt(num(r["keyframe_every"]), 0),
-                    r["target_psnr"].is_null() ? "" : fmt(num(r["target_psnr"])),
+                    r["keyframe_every"].is_null() ? "" : fmt(numberOrNan(r["keyframe_every"]), 0),
+                    r["target_psnr"].is_null() ? "" : fmt(numberOrNan(r["target_psnr"])),
                     std::to_string(r["keyframes"].get<std::size_t>()),
-                    fmt(num(r["keyframes_per_100"]), 1), fmt(num(r["psnr"]["median"])),
-                    fmt(num(r["psnr"]["p5"])), fmt(num(r["plan_ms"]), 0)});
+                    fmt(numberOrNan(r["keyframes_per_100"]), 1),
+                    fmt(numberOrNan(r["psnr"]["median"])), fmt(numberOrNan(r["psnr"]["p5"])),
+                    fmt(numberOrNan(r["plan_ms"]), 0)});
   page.table({"schedule", "every", "target dB", "keyframes", "per 100", "PSNR median", "PSNR p5",
               "plan ms"},
              rows);
   std::vector<std::vector<std::string>> crow;
   for (const json& c : correlation)
-    crow.push_back({c["predictor"].get<std::string>(), fmt(num(c["pearson_pooled"]), 3),
-                    fmt(num(c["spearman_pooled"]), 3), fmt(num(c["pearson_reference_spacing"]), 3),
-                    fmt(num(c["spearman_reference_spacing"]), 3)});
+    crow.push_back({c["predictor"].get<std::string>(), fmt(numberOrNan(c["pearson_pooled"]), 3),
+                    fmt(numberOrNan(c["spearman_pooled"]), 3),
+                    fmt(numberOrNan(c["pearson_reference_spacing"]), 3),
+                    fmt(numberOrNan(c["spearman_reference_spacing"]), 3)});
   page.heading("Predictors: correlation with measured PSNR (fixed walks)");
   page.table({"predictor", "Pearson, all spacings", "Spearman, all", "Pearson, reference spacing",
               "Spearman, reference"},

@@ -17,8 +17,6 @@ namespace {
 
 using nlohmann::json;
 
-double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-
 struct Skip {
   const char* name;
   const char* what;
@@ -28,7 +26,7 @@ struct Skip {
 };
 
 json measure(const json& s) {
-  const double pixels = num(s["resolution"][0]) * num(s["resolution"][1]);
+  const double pixels = numberOrNan(s["resolution"][0]) * numberOrNan(s["resolution"][1]);
   return {{"in_between_ms_median", s["in_between_ms"]["median"]},
           {"in_between_ms_p95", s["in_between_ms"]["p95"]},
           {"psnr_median", s["psnr"]["median"]},
@@ -37,7 +35,7 @@ json measure(const json& s) {
           {"psnr_large_quads_median", s["psnr_large_quads"]["median"]},
           {"psnr_large_quads_p5", s["psnr_large_quads"]["p5"]},
           {"large_quad_pixel_share_median",
-           finiteOrNull(num(s["large_quad_pixels"]["median"]) / pixels)},
+           finiteOrNull(numberOrNan(s["large_quad_pixels"]["median"]) / pixels)},
           {"drawn_quads_per_keyframe_median", s["drawn_quads_per_keyframe"]["median"]},
           {"subdivided_quads_per_keyframe_median", s["subdivided_quads_per_keyframe"]["median"]}};
 }
@@ -149,18 +147,21 @@ std::string skipStudyCsv(const json& study) {
            "," + r["skip"].get<std::string>() + "," + r["default"].get<std::string>() + "," +
            (r.contains("fired_frames") ? std::to_string(r["fired_frames"].get<int>()) : "") + "," +
            std::to_string(r["in_between_frames"].get<int>()) + "," +
-           fmt(num(r["on"]["in_between_ms_median"])) + "," + fmt(num(r["off"]["in_between_ms_median"])) +
-           "," + fmt(num(r["on"]["in_between_ms_p95"])) + "," + fmt(num(r["off"]["in_between_ms_p95"])) +
-           "," + fmt(num(r["on"]["psnr_median"])) + "," + fmt(num(r["off"]["psnr_median"])) + "," +
-           fmt(num(r["on"]["psnr_p5"])) + "," + fmt(num(r["off"]["psnr_p5"]));
+           fmt(numberOrNan(r["on"]["in_between_ms_median"])) + "," +
+           fmt(numberOrNan(r["off"]["in_between_ms_median"])) + "," +
+           fmt(numberOrNan(r["on"]["in_between_ms_p95"])) + "," +
+           fmt(numberOrNan(r["off"]["in_between_ms_p95"])) + "," +
+           fmt(numberOrNan(r["on"]["psnr_median"])) + "," +
+           fmt(numberOrNan(r["off"]["psnr_median"])) + "," + fmt(numberOrNan(r["on"]["psnr_p5"])) +
+           "," + fmt(numberOrNan(r["off"]["psnr_p5"]));
     for (const char* k : {"psnr_large_quads_median", "psnr_large_quads_p5",
                           "large_quad_pixel_share_median", "drawn_quads_per_keyframe_median",
                           "subdivided_quads_per_keyframe_median"}) {
       const int decimals = std::string(k) == "large_quad_pixel_share_median" ? 4 : 2;
       csv += ',';
-      csv += fmt(num(r["on"][k]), decimals);
+      csv += fmt(numberOrNan(r["on"][k]), decimals);
       csv += ',';
-      csv += fmt(num(r["off"][k]), decimals);
+      csv += fmt(numberOrNan(r["off"][k]), decimals);
     }
     csv += "\n";
   }

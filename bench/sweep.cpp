@@ -8,6 +8,7 @@
 #include <set>
 
 #include "bench/html_report.h"
+#include "bench/json_util.h"
 #include "bench/plot.h"
 #include "bench/walk.h"
 #include "core/file_io.h"
@@ -21,8 +22,6 @@ namespace hw::bench {
 namespace {
 
 using nlohmann::json;
-
-double num(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
 
 std::string tauLabel(double tau) {
   const double l = std::log2(tau);
@@ -229,7 +228,8 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
     auto row = runOne(r);
     if (!row) return row.error();
     if (r.mesh == keyframe::MeshMethod::UniformTiles) (*row)["matched_to_tau"] = r.tau;
-    if (isFivePointStencil(r)) fivePointQuads[r.tau] = num((*row)["quads_per_keyframe"]["median"]);
+    if (isFivePointStencil(r))
+      fivePointQuads[r.tau] = numberOrNan((*row)["quads_per_keyframe"]["median"]);
     (*row)["cell"] = c;
     rows.push_back(*row);
   }
@@ -313,8 +313,8 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
       for (const json& r : rows) {
         if (r["method"] != m) continue;
         if (lodOnly && r["mesh"] != "lod") continue;
-        const double x = xStat ? num(r[xKey][xStat]) : num(r[xKey]);
-        const double y = yStat ? num(r[yKey][yStat]) : num(r[yKey]);
+        const double x = xStat ? numberOrNan(r[xKey][xStat]) : numberOrNan(r[xKey]);
+        const double y = yStat ? numberOrNan(r[yKey][yStat]) : numberOrNan(r[yKey]);
         pts.push_back({x, y});
       }
       if (pts.empty()) continue;
@@ -362,14 +362,23 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   for (const json& r : rows) {
     const std::string crit = r["criterion"].is_string() ? r["criterion"].get<std::string>() : "";
     const std::string variant = r["variant"].is_string() ? r["variant"].get<std::string>() : "";
-    const std::string tau = r["tau"].is_number() ? fmt(num(r["tau"]), 0) : "";
+    const std::string tau = r["tau"].is_number() ? fmt(numberOrNan(r["tau"]), 0) : "";
     const std::string tile = r["tile_size"].is_number() ? std::to_string(r["tile_size"].get<int>()) : "";
     const std::vector<std::string> cells = {
-        r["mesh"].get<std::string>(), crit, variant, tau, tile,
-        fmt(num(r["quads_per_keyframe"]["median"]), 0), fmt(num(r["lod_build_ms"]["median"])),
-        fmt(num(r["in_between_ms"]["median"])), fmt(num(r["in_between_ms"]["p95"])),
-        fmt(num(r["psnr"]["median"])), fmt(num(r["psnr"]["p5"])), fmt(num(r["ssim"]["median"]), 4),
-        fmt(num(r["ssim"]["p5"]), 4), fmt(100 * num(r["holes_before_fallback"]["median"]), 3)};
+        r["mesh"].get<std::string>(),
+        crit,
+        variant,
+        tau,
+        tile,
+        fmt(numberOrNan(r["quads_per_keyframe"]["median"]), 0),
+        fmt(numberOrNan(r["lod_build_ms"]["median"])),
+        fmt(numberOrNan(r["in_between_ms"]["median"])),
+        fmt(numberOrNan(r["in_between_ms"]["p95"])),
+        fmt(numberOrNan(r["psnr"]["median"])),
+        fmt(numberOrNan(r["psnr"]["p5"])),
+        fmt(numberOrNan(r["ssim"]["median"]), 4),
+        fmt(numberOrNan(r["ssim"]["p5"]), 4),
+        fmt(100 * numberOrNan(r["holes_before_fallback"]["median"]), 3)};
     table.push_back(cells);
     for (std::size_t i = 0; i < cells.size(); ++i) csv += cells[i] + (i + 1 < cells.size() ? "," : "\n");
   }
@@ -397,8 +406,9 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   std::vector<std::string> srcs, caps;
   for (const json& o : overlays) {
     srcs.push_back(o["file"].get<std::string>());
-    caps.push_back("tau " + tauLabel(num(o["tau"])) + ": " + std::to_string(o["quads"].get<int>()) +
-                   " quads (" + std::to_string(o["one_pixel_leaves"].get<int>()) + " one-pixel)");
+    caps.push_back("tau " + tauLabel(numberOrNan(o["tau"])) + ": " +
+                   std::to_string(o["quads"].get<int>()) + " quads (" +
+                   std::to_string(o["one_pixel_leaves"].get<int>()) + " one-pixel)");
   }
   page.images(srcs, caps, 384);
   HW_TRY(page.write(opt.outDir + "/index.html"));
