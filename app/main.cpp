@@ -653,6 +653,15 @@ int main(int argc, char** argv) {
                    "deviation; a number = a normal error of that standard deviation, dB (0 = the "
                    "plain count); auto = empirical with --calibrate-spacing, else 0")
       ->capture_default_str();
+  double walkCalWindow = 0;
+  walk->add_option("--calibration-window", walkCalWindow,
+                   "Adaptive schedule with --calibrate-spacing: also correct each frame's "
+                   "prediction by the calibration residuals near it along the path (a Gaussian "
+                   "of this many frames standard deviation, shrunk toward 0 by 2 samples' "
+                   "weight; the error model then takes the residuals left, each frame's "
+                   "computed without its own samples), frames; 0 = off")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
   bool asyncKeyframes = false;
   double keyframeCacheMb = 256;
@@ -1592,6 +1601,11 @@ int main(int argc, char** argv) {
   json plannerJson;
   std::vector<bench::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
   double plannedTarget = 0;
+  if (schedule != "adaptive")  // the calibration options only shape an adaptive plan
+    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty"})
+      if (walk->count(opt) > 0)
+        return fail(std::string(opt) + ": expected --schedule adaptive (it shapes the planned "
+                    "schedule), got --schedule " + schedule);
   if (schedule == "adaptive") {
     keyframe::parsePredictor(walkPredictor.c_str(), &walkPlan.predictor);
     keyframe::parsePlanCriterion(walkPlanBy.c_str(), &walkPlan.criterion);
@@ -1628,6 +1642,9 @@ int main(int argc, char** argv) {
       return fail("--plan-uncertainty " + walkUncertainty +
                   ": expected --calibrate-spacing or --target-psnr fixed:G (the calibration's "
                   "residuals are its error model), got neither");
+    if (walkCalWindow > 0 && calSpacings.empty())
+      return fail("--calibration-window: expected --calibrate-spacing or --target-psnr fixed:G (the "
+                  "window smooths the calibration's residuals), got neither");
     std::string uncertaintyModel = uncertaintyDb > 0 ? "normal" : "none";
     keyframe::RenderOptions ropt;
     ropt.depthMode = wo.depthMode;
@@ -1653,15 +1670,39 @@ int main(int argc, char** argv) {
       if (!fit) return fail(fit.error().message);
       walkPlan.useDefaultFit = false;
       walkPlan.fit = fit->fit;
+      // The residuals the error model takes: the fit's, or with a window what
+      // is left after the path offsets (each frame's offset without its own
+      // samples, as for a frame the calibration did not see).
+      std::vector<double> residuals;
+      std::vector<int> sampleFrames;
+      for (std::size_t i = 0; i < cal->samples.size(); ++i) {
+        residuals.push_back(cal->samples[i].psnrDb - fit->predictedDb[i]);
+        sampleFrames.push_back(cal->samples[i].frame);
+      }
+      double residualSd = fit->residualStdDb;
+      json windowJ = nullptr;
+      if (walkCalWindow > 0) {
+        auto offsets = keyframe::smoothResidualsAlongPath(frames, sampleFrames, residuals, walkCalWindow);
+        walkPlan.frameOffsetDb = offsets.offsetDb;
+        residuals = offsets.heldOutResidualsDb;
+        double ss = 0;
+        int m = 0;
+        for (double r : residuals)
+          if (std::isfinite(r)) ss += r * r, ++m;
+        residualSd = m > 0 ? std::sqrt(ss / m) : 0.0;
+        const auto [lo, hi] = std::minmax_element(offsets.offsetDb.begin(), offsets.offsetDb.end());
+        windowJ = {{"frames", walkCalWindow},
+                   {"prior_samples", 2.0},
+                   {"held_out_residual_rms_db", residualSd},
+                   {"offset_min_db", lo == offsets.offsetDb.end() ? 0.0 : *lo},
+                   {"offset_max_db", hi == offsets.offsetDb.end() ? 0.0 : *hi}};
+      }
       if (walkUncertainty == "normal") {
-        uncertaintyDb = fit->residualStdDb;
+        uncertaintyDb = residualSd;
         uncertaintyModel = "normal";
       } else if (walkUncertainty == "empirical" || walkUncertainty == "auto") {
-        std::vector<double> residuals;
-        for (std::size_t i = 0; i < cal->samples.size(); ++i)
-          residuals.push_back(cal->samples[i].psnrDb - fit->predictedDb[i]);
         walkPlan.error.setResiduals(std::move(residuals));
-        uncertaintyDb = fit->residualStdDb;
+        uncertaintyDb = residualSd;
         uncertaintyModel = "empirical";
       }
       for (const auto& w : cal->walks)
@@ -1673,12 +1714,16 @@ int main(int argc, char** argv) {
           targetSource = "fixed:" + std::to_string(targetSpacing);
         }
       if (auto st = ensureWritableDir(walkOut); !st) return fail(st.error().message);
-      if (auto st = bench::writeCalibration(walkOut, *cal, *fit, walkPlan.predictor); !st)
+      if (auto st = bench::writeCalibration(walkOut, *cal, *fit, walkPlan.predictor, walkPlan.frameOffsetDb);
+          !st)
         return fail(st.error().message);
       calibrationJ = bench::calibrationJson(*cal, *fit);
+      calibrationJ["window"] = windowJ;
       calibrationJ["ms"] = calSw.ms();
       std::fprintf(stderr, "calibrated %s on %d in-between frames: residual sd %.2f dB, Spearman %.3f",
                    walkPredictor.c_str(), fit->samples, fit->residualStdDb, fit->spearman);
+      if (walkCalWindow > 0)
+        std::fprintf(stderr, "; along the path (%g frames): %.2f dB left", walkCalWindow, residualSd);
       if (targetSpacing > 0)
         std::fprintf(stderr, "; target %.2f dB (%s)", walkPlan.targetPsnrDb, targetSource.c_str());
       std::fprintf(stderr, "\n");
@@ -1687,7 +1732,8 @@ int main(int argc, char** argv) {
     auto plan = keyframe::planAdaptiveSchedule(probe, frames, walkPlan);
     if (!plan) return fail(plan.error().message);
     wo.keyframeFrames = plan->keyframes;
-    auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, plan->keyframes);
+    auto predicted =
+        bench::predictSchedule(probe, walkPlan.predictor, plan->fit, plan->keyframes, walkPlan.frameOffsetDb);
     if (!predicted) return fail(predicted.error().message);
     plannedFrames = std::move(*predicted);
     plannedTarget = walkPlan.targetPsnrDb;

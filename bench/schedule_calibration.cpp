@@ -73,13 +73,16 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
 }
 
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor) {
-  std::string csv = "spacing,k0,k1,frame,psnr,predicted\n";
-  char line[160];
+                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
+                        const std::vector<double>& frameOffsetDb) {
+  std::string csv = "spacing,k0,k1,frame,psnr,predicted,offset\n";
+  char line[200];
   for (std::size_t i = 0; i < cal.samples.size(); ++i) {
     const auto& s = cal.samples[i];
-    std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f\n", cal.spacing[i], s.k0, s.k1, s.frame,
-                  s.psnrDb, i < fit.predictedDb.size() ? fit.predictedDb[i] : std::nan(""));
+    const auto f = static_cast<std::size_t>(s.frame);
+    std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f,%.4f\n", cal.spacing[i], s.k0, s.k1,
+                  s.frame, s.psnrDb, i < fit.predictedDb.size() ? fit.predictedDb[i] : std::nan(""),
+                  f < frameOffsetDb.size() ? frameOffsetDb[f] : 0.0);
     csv += line;
   }
   if (auto st = writeFileAtomic(outDir + "/calibration.csv", csv); !st) return st;
@@ -120,13 +123,17 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
 Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
                                                   keyframe::Predictor predictor,
                                                   const keyframe::PsnrFit& fit,
-                                                  const std::vector<int>& keyframes) {
+                                                  const std::vector<int>& keyframes,
+                                                  const std::vector<double>& frameOffsetDb) {
   std::vector<PlannedFrame> out;
   for (std::size_t j = 1; j < keyframes.size(); ++j)
     for (int f = keyframes[j - 1] + 1; f < keyframes[j]; ++f) {
       auto ff = keyframe::predictorFeatures(probe, predictor, keyframes[j - 1], keyframes[j], f);
       if (!ff) return ff.error();
-      out.push_back({f, keyframes[j - 1], keyframes[j], keyframe::predictPsnr(fit, *ff, predictor)});
+      const auto fi = static_cast<std::size_t>(f);
+      out.push_back({f, keyframes[j - 1], keyframes[j],
+                     keyframe::predictPsnr(fit, *ff, predictor) +
+                         (fi < frameOffsetDb.size() ? frameOffsetDb[fi] : 0.0)});
     }
   return out;
 }

@@ -51,11 +51,13 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
                                                 const std::vector<int>& spacings,
                                                 const WalkOptions& base, bool progress);
 
-// calibration.csv (spacing,k0,k1,frame,psnr,predicted) and calibration.png
-// (predicted vs measured, one colour per walk, the line measured = predicted)
-// into outDir, atomically.
+// calibration.csv (spacing,k0,k1,frame,psnr,predicted,offset: offset =
+// the path offset at the frame, 0 without --calibration-window) and
+// calibration.png (predicted vs measured, one colour per walk, the line
+// measured = predicted) into outDir, atomically.
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor);
+                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
+                        const std::vector<double>& frameOffsetDb = {});
 
 // The planned schedule against the walk that ran it: every in-between frame's
 // predicted PSNR (the planner's fit) and measured PSNR (the walk report's
@@ -64,11 +66,13 @@ struct PlannedFrame {
   int frame = 0, k0 = 0, k1 = 0;
   double predictedDb = 0;
 };
-// Predictions of every in-between frame of `keyframes` (sorted, first 0).
+// Predictions of every in-between frame of `keyframes` (sorted, first 0),
+// with frameOffsetDb[frame] added as the planner adds it (empty = none).
 Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
                                                   keyframe::Predictor predictor,
                                                   const keyframe::PsnrFit& fit,
-                                                  const std::vector<int>& keyframes);
+                                                  const std::vector<int>& keyframes,
+                                                  const std::vector<double>& frameOffsetDb = {});
 // planned.csv (frame,k0,k1,predicted,measured) and planned.png (both along
 // the path, the target and the keyframes) into outDir; returns the median
 // predicted PSNR of the in-between frames (NaN when there are none).

@@ -1058,6 +1058,51 @@ Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor 
   return c;
 }
 
+PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleFrames,
+                                     const std::vector<double>& residualsDb, double widthFrames,
+                                     double prior) {
+  PathOffsets out;
+  out.offsetDb.assign(static_cast<std::size_t>(std::max(frames, 0)), 0.0);
+  out.heldOutResidualsDb.assign(residualsDb.size(), std::nan(""));
+  const std::size_t n = std::min(sampleFrames.size(), residualsDb.size());
+  const bool smooth = widthFrames > 0 && std::isfinite(widthFrames);
+  // Σ w r and Σ w at frame f, leaving out the samples at frame `skip` (−1: none).
+  auto sums = [&](int f, int skip, double* wr, double* w) {
+    *wr = 0, *w = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (sampleFrames[i] == skip || !std::isfinite(residualsDb[i])) continue;
+      const double d = (sampleFrames[i] - f) / widthFrames;
+      if (d * d > 25) continue;
+      const double wi = std::exp(-0.5 * d * d);
+      *wr += wi * residualsDb[i], *w += wi;
+    }
+  };
+  double wr = 0, w = 0;
+  if (smooth)
+    for (int f = 0; f < frames; ++f) {
+      sums(f, -1, &wr, &w);
+      out.offsetDb[static_cast<std::size_t>(f)] = (w + prior) > 0 ? wr / (w + prior) : 0.0;
+    }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(residualsDb[i])) continue;
+    double off = 0;
+    if (smooth) {
+      sums(sampleFrames[i], sampleFrames[i], &wr, &w);
+      off = (w + prior) > 0 ? wr / (w + prior) : 0;
+    }
+    out.heldOutResidualsDb[i] = residualsDb[i] - off;
+  }
+  return out;
+}
+
+FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb) {
+  if (offsetDb.empty()) return predict;
+  return [predict = std::move(predict), off = std::move(offsetDb)](int k0, int k1, int f) {
+    const double v = predict(k0, k1, f);
+    return f >= 0 && static_cast<std::size_t>(f) < off.size() ? v + off[static_cast<std::size_t>(f)] : v;
+  };
+}
+
 Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,
                                         const std::function<Camera(int)>& cameraOf, int frames,
                                         const PlannerOptions& opt) {
@@ -1091,6 +1136,8 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
                      std::to_string(opt.error.sigmaDb));
   if (!opt.useDefaultFit && !opt.fit.finite())
     return makeError("keyframe planner: the predictor's fit has a non-finite coefficient");
+  for (double v : opt.frameOffsetDb)
+    if (!std::isfinite(v)) return makeError("keyframe planner: a path offset of the prediction is not finite");
   if (opt.candidateStride < 1 || opt.framesPerSegment < 0)
     return makeError("keyframe planner: candidate stride must be >= 1 and frames per segment >= 0");
   Stopwatch sw;
@@ -1099,15 +1146,17 @@ Result<PlanResult> planAdaptiveSchedule(KeyframeProbe& probe, int frames,
   PlanResult r;
   r.fit = opt.useDefaultFit ? defaultFit(opt.predictor) : opt.fit;
   Status failure;
-  auto predict = [&](int k0, int k1, int i) {
-    if (!failure.ok()) return -std::numeric_limits<double>::infinity();
-    auto f = predictorFeatures(probe, opt.predictor, k0, k1, i);
-    if (!f) {
-      failure = f.error();
-      return -std::numeric_limits<double>::infinity();
-    }
-    return predictPsnr(r.fit, *f, opt.predictor);
-  };
+  const FramePredictor predict = withPathOffsets(
+      [&](int k0, int k1, int i) {
+        if (!failure.ok()) return -std::numeric_limits<double>::infinity();
+        auto f = predictorFeatures(probe, opt.predictor, k0, k1, i);
+        if (!f) {
+          failure = f.error();
+          return -std::numeric_limits<double>::infinity();
+        }
+        return predictPsnr(r.fit, *f, opt.predictor);
+      },
+      opt.frameOffsetDb);
   PlanSearch search;
   search.minGap = opt.minGap;
   search.maxGap = opt.maxGap;

@@ -323,6 +323,7 @@ struct PlannerOptions {
   int candidateStride = 1;    // see PlanSearch
   int framesPerSegment = 0;   // see PlanSearch (0 = every in-between frame)
   PredictionError error;      // walk-median: the predictor's error (see PlanSearch)
+  std::vector<double> frameOffsetDb;  // added to frame i's prediction (PathOffsets; empty = none)
 };
 
 struct PlanResult {
@@ -363,6 +364,30 @@ struct PredictorCalibration {
 // (what was got is said).
 Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor p,
                                                 const std::vector<CalibrationSample>& samples);
+
+// The calibration's residuals smoothed along the path. The predictor's
+// errors are offsets shared by neighbouring frames (what its low-resolution
+// probes miss: fine texture, alpha-tested foliage; on forza about 20
+// segment-level offsets of 1-2 dB decide the walk's median), so calibration
+// frames near a frame say how far off its prediction is:
+//   offset(f) = Σ w_i r_i / (Σ w_i + prior),  w_i = exp(−½((f_i − f) / width)²)
+// over the calibration frames f_i and their residuals r_i (measured −
+// predicted; non-finite ones skipped). `prior`, in samples, pulls an offset
+// made of few or distant samples toward 0. Weights below exp(−12.5) (5
+// widths) are dropped.
+struct PathOffsets {
+  std::vector<double> offsetDb;  // per frame 0..frames−1, dB (0 when width is 0)
+  // Per sample: r_i minus its frame's offset computed without the samples at
+  // that frame: the error left after the correction, as a frame the
+  // calibration did not see would have it (NaN where r_i is not finite).
+  std::vector<double> heldOutResidualsDb;
+};
+PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleFrames,
+                                     const std::vector<double>& residualsDb, double widthFrames,
+                                     double prior = 2.0);
+
+// `predict` with offsetDb[frame] added (frames past its end: nothing added).
+FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb);
 
 // Plans an error-driven schedule for `frames` frames of a path. A GL context
 // must be current; `renderer` draws the probes (its scene is the walk's).

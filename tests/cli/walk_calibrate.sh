@@ -5,7 +5,8 @@
 # Checked against the walk itself: the calibration walk every 10 frames has
 # the median of the ordinary fixed walk (the built-in path's keyframe_every
 # is 10), the report's residual spread is the CSV's, and the planner's
-# uncertainty is that spread unless given.
+# uncertainty is that spread unless given; with --calibration-window the
+# offsets along the path and what they leave are recomputed from the CSV.
 # Usage: walk_calibrate.sh HYBRIDWALK SOURCE_DIR
 source "$(dirname "$0")/lib.bash"
 common=(--scene indoor:20k --frames 40 --strips 0 --quiet)
@@ -24,6 +25,10 @@ check "stderr reports the calibration" grep -q "calibrated probe-psnr on .* in-b
 rc=$?; check "calibrated walk with --plan-uncertainty 0 exits 0" test $rc -eq 0
 "$hw" walk "${common[@]}" "${plan[@]}" --target-psnr 30 --out "$tmp/plain" >"$tmp/plain.out" 2>&1
 rc=$?; check "uncalibrated walk exits 0" test $rc -eq 0
+"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 --calibration-window 3 \
+  --out "$tmp/win" >"$tmp/win.out" 2>"$tmp/win.err"
+rc=$?; check "calibrated walk with --calibration-window 3 exits 0 ($(tail -2 "$tmp/win.err"))" test $rc -eq 0
+check "stderr reports what the window leaves" grep -q "along the path (3 frames): .* dB left" "$tmp/win.err"
 python3 - "$tmp" <<'PY'
 import csv, json, math, sys
 t = sys.argv[1]
@@ -74,6 +79,32 @@ expect(plain["calibration"] is None and plain["uncertainty"] == "none" and plain
 expect(plain["fit"]["intercept"] != p["fit"]["intercept"], "the refit differs from the default fit")
 k = s["keyframe_frames"]
 expect(k[0] == 0 and k[-1] == 39 and all(2 <= b - a <= 12 for a, b in zip(k, k[1:-1])), "gaps within 2..12")
+expect(c["window"] is None and all(float(r["offset"]) == 0 for r in rows), "no window: null, offsets 0")
+# --calibration-window 3: the offsets and held-out residuals recomputed from
+# calibration.csv (Gaussian of 3 frames, prior 2 samples, weights past 5 widths dropped).
+wp = json.load(open(t + "/win/report.json"))["summary"]["planner"]
+wc = wp["calibration"]["window"]
+wrows = list(csv.DictReader(open(t + "/win/calibration.csv")))
+at = [int(r["frame"]) for r in wrows]
+wres = [float(r["psnr"]) - float(r["predicted"]) for r in wrows]
+def offset(f, skip=None):
+    num = den = 0.0
+    for g, r in zip(at, wres):
+        d = (g - f) / 3.0
+        if g == skip or d * d > 25: continue
+        w = math.exp(-0.5 * d * d); num += w * r; den += w
+    return num / (den + 2.0)
+expect(wc["frames"] == 3 and wc["prior_samples"] == 2, "window 3 frames, prior 2: %s" % wc)
+worst = max(abs(offset(f) - float(r["offset"])) for f, r in zip(at, wrows))
+expect(worst < 2e-3, "offset column = the smoothed residuals (worst %.5f dB)" % worst)
+held = [r - offset(f, skip=f) for f, r in zip(at, wres)]
+rms = math.sqrt(sum(h * h for h in held) / len(held))
+expect(abs(rms - wc["held_out_residual_rms_db"]) < 2e-3, "held-out rms from the CSV %.4f = report %.4f" % (rms, wc["held_out_residual_rms_db"]))
+expect(wp["uncertainty_db"] == wc["held_out_residual_rms_db"], "the error model is what the window leaves")
+offs = [float(r["offset"]) for r in wrows]
+expect(wc["offset_min_db"] <= min(offs) + 1e-3 and wc["offset_max_db"] >= max(offs) - 1e-3 and max(offs) > min(offs),
+       "the offsets' range over the path holds the sampled frames' (%s)" % wc)
+expect(wp["fit"] == p["fit"], "the window leaves the fit alone")
 for b in bad: print("FAIL", b)
 sys.exit(1 if bad else 0)
 PY

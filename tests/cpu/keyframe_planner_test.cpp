@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -471,6 +472,109 @@ TEST(KeyframePlannerFit, SixRegressorFitRecoversEverySlope) {
   ASSERT_TRUE(parsePredictor("probe-psnr+features", &p));
   EXPECT_EQ(p, Predictor::ProbePsnrFeatures);
   EXPECT_TRUE(isProbePredictor(p));
+}
+
+// The calibration's residuals smoothed along the path: a constant residual is
+// the offset everywhere (prior 0), a step keeps both levels away from the
+// step, the prior shrinks toward 0, a frame's held-out residual is computed
+// without the samples at that frame, and non-finite residuals are skipped.
+TEST(KeyframePlannerPathOffsets, SmoothedResidualsAlongThePath) {
+  const int frames = 100;
+  std::vector<int> at;
+  std::vector<double> constant, step;
+  for (int f = 1; f < frames - 1; ++f) {
+    at.push_back(f);
+    constant.push_back(-1.5);
+    step.push_back(f < 50 ? 2.0 : -1.0);
+  }
+  PathOffsets c = smoothResidualsAlongPath(frames, at, constant, 3.0, 0.0);
+  ASSERT_EQ(c.offsetDb.size(), 100u);
+  ASSERT_EQ(c.heldOutResidualsDb.size(), constant.size());
+  for (double v : c.offsetDb) EXPECT_NEAR(v, -1.5, 1e-12);
+  for (double v : c.heldOutResidualsDb) EXPECT_NEAR(v, 0.0, 1e-12);
+  // The prior: Σw / (Σw + 2) of the residual, less where samples are sparse
+  // (the ends) than in the middle.
+  PathOffsets shrunk = smoothResidualsAlongPath(frames, at, constant, 3.0, 2.0);
+  EXPECT_LT(shrunk.offsetDb[50], -1.0);
+  EXPECT_GT(shrunk.offsetDb[50], -1.5);
+  EXPECT_GT(shrunk.offsetDb[0], shrunk.offsetDb[50]);
+  // A step: more than 5 widths away only one level counts; monotone between.
+  PathOffsets st = smoothResidualsAlongPath(frames, at, step, 3.0, 0.0);
+  EXPECT_NEAR(st.offsetDb[20], 2.0, 1e-12);
+  EXPECT_NEAR(st.offsetDb[80], -1.0, 1e-12);
+  for (int f = 1; f < frames; ++f) EXPECT_LE(st.offsetDb[f], st.offsetDb[f - 1] + 1e-12) << f;
+  EXPECT_GT(st.offsetDb[49], -1.0);
+  EXPECT_LT(st.offsetDb[49], 2.0);
+  // Held out: an outlier at frame 30 among zeros keeps its whole residual
+  // (the others say 0 there), though its own offset moved toward it.
+  std::vector<double> outlier(at.size(), 0.0);
+  outlier[29] = 10.0;  // at[29] == 30
+  PathOffsets o = smoothResidualsAlongPath(frames, at, outlier, 3.0, 2.0);
+  EXPECT_GT(o.offsetDb[30], 0.5);
+  EXPECT_DOUBLE_EQ(o.heldOutResidualsDb[29], 10.0);
+  EXPECT_LT(o.heldOutResidualsDb[30], 0.0);  // its neighbour: the outlier pulled its offset up
+  // Width 0: no offsets; the held-out residuals are the residuals.
+  PathOffsets none = smoothResidualsAlongPath(frames, at, step, 0.0);
+  for (double v : none.offsetDb) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(none.heldOutResidualsDb, step);
+  // A NaN residual is skipped; frames beyond 5 widths of every sample get 0.
+  std::vector<int> two = {10, 11};
+  PathOffsets n = smoothResidualsAlongPath(frames, two, {std::nan(""), 4.0}, 2.0, 0.0);
+  EXPECT_NEAR(n.offsetDb[10], 4.0, 1e-12);
+  EXPECT_EQ(n.offsetDb[90], 0.0);
+  EXPECT_TRUE(std::isnan(n.heldOutResidualsDb[0]));
+  EXPECT_EQ(n.heldOutResidualsDb[1], 4.0);  // nothing else near: offset 0
+  // Predictions with offsets: frame i gains offsetDb[i]; frames past the end none.
+  const FramePredictor p = withPathOffsets([](int, int, int f) { return 30.0 + f; }, {1.0, -2.0});
+  EXPECT_EQ(p(0, 5, 0), 31.0);
+  EXPECT_EQ(p(0, 5, 1), 29.0);
+  EXPECT_EQ(p(0, 5, 3), 33.0);
+}
+
+// What the offsets are for: a predictor blind to a hard stretch of the path
+// (measured 3 dB below it on frames 0..59) plans too few keyframes there and
+// misses the median of the fixed schedule it was asked for; corrected by the
+// smoothed residuals of a calibration walk every 10 frames, it reaches it.
+TEST(KeyframePlannerPathOffsets, CalibrationOffsetsCorrectAPredictorBlindToAStretch) {
+  const int frames = 120;
+  std::vector<double> difficulty(frames);
+  for (int i = 0; i < frames; ++i) difficulty[i] = 0.6 + 0.3 * std::sin(0.21 * i);
+  const FramePredictor predicted = difficultyPredictor(difficulty);
+  const auto measured = [&](int k0, int k1, int i) { return predicted(k0, k1, i) - (i < 60 ? 3.0 : 0.0); };
+  const auto medianOf = [&](const std::vector<int>& ks) {
+    std::vector<double> v;
+    for (std::size_t j = 1; j < ks.size(); ++j)
+      for (int f = ks[j - 1] + 1; f < ks[j]; ++f) v.push_back(measured(ks[j - 1], ks[j], f));
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  std::vector<int> fixed10;
+  for (int k = 0; k < frames - 1; k += 10) fixed10.push_back(k);
+  fixed10.push_back(frames - 1);
+  const double target = medianOf(fixed10);
+  std::vector<int> at;
+  std::vector<double> residual;
+  for (std::size_t j = 1; j < fixed10.size(); ++j)
+    for (int f = fixed10[j - 1] + 1; f < fixed10[j]; ++f) {
+      at.push_back(f);
+      residual.push_back(measured(fixed10[j - 1], fixed10[j], f) - predicted(fixed10[j - 1], fixed10[j], f));
+    }
+  // Without the prior the offsets are the residuals' −3 dB (away from frame 60).
+  const PathOffsets exact = smoothResidualsAlongPath(frames, at, residual, 3.0, 0.0);
+  const PathOffsets shrunk = smoothResidualsAlongPath(frames, at, residual, 3.0);  // prior 2
+  const std::vector<int> blind = fewestKeyframesForMedian(frames, target, 2, 20, predicted);
+  const std::vector<int> corrected =
+      fewestKeyframesForMedian(frames, target, 2, 20, withPathOffsets(predicted, exact.offsetDb));
+  const std::vector<int> partly =
+      fewestKeyframesForMedian(frames, target, 2, 20, withPathOffsets(predicted, shrunk.offsetDb));
+  expectValidSchedule(blind, frames, 2, 20);
+  expectValidSchedule(corrected, frames, 2, 20);
+  EXPECT_LT(medianOf(blind), target - 0.5);
+  EXPECT_GE(medianOf(corrected), target);
+  EXPECT_GT(corrected.size(), blind.size());
+  // The prior's shrinkage (9 samples per 10 frames: offsets about −2.3 dB)
+  // leaves part of the miss: less than a quarter of the blind plan's.
+  EXPECT_GT(medianOf(partly), target - 0.25 * (target - medianOf(blind)));
 }
 
 }  // namespace
