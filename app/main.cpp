@@ -658,8 +658,8 @@ int main(int argc, char** argv) {
                    "Adaptive schedule with --calibrate-spacing: also correct each frame's "
                    "prediction by the calibration residuals near it along the path (a Gaussian "
                    "of this many frames standard deviation, shrunk toward 0 by 2 samples' "
-                   "weight; the error model then takes the residuals left, each frame's "
-                   "computed without its own samples), frames; 0 = off")
+                   "weight; the error model then takes the residuals left, each calibration "
+                   "segment's computed without its own samples), frames; 0 = off")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
@@ -1674,15 +1674,19 @@ int main(int argc, char** argv) {
       // is left after the path offsets (each frame's offset without its own
       // samples, as for a frame the calibration did not see).
       std::vector<double> residuals;
-      std::vector<int> sampleFrames;
+      std::vector<int> sampleFrames, sampleSegment;  // segment: held out together
       for (std::size_t i = 0; i < cal->samples.size(); ++i) {
-        residuals.push_back(cal->samples[i].psnrDb - fit->predictedDb[i]);
-        sampleFrames.push_back(cal->samples[i].frame);
+        const auto& c = cal->samples[i];
+        residuals.push_back(c.psnrDb - fit->predictedDb[i]);
+        sampleFrames.push_back(c.frame);
+        const bool same = i > 0 && cal->spacing[i] == cal->spacing[i - 1] && c.k0 == cal->samples[i - 1].k0;
+        sampleSegment.push_back(i == 0 ? 0 : sampleSegment.back() + (same ? 0 : 1));
       }
       double residualSd = fit->residualStdDb;
       json windowJ = nullptr;
       if (walkCalWindow > 0) {
-        auto offsets = keyframe::smoothResidualsAlongPath(frames, sampleFrames, residuals, walkCalWindow);
+        auto offsets =
+            keyframe::smoothResidualsAlongPath(frames, sampleFrames, residuals, walkCalWindow, 2.0, sampleSegment);
         walkPlan.frameOffsetDb = offsets.offsetDb;
         residuals = offsets.heldOutResidualsDb;
         double ss = 0;

@@ -1060,17 +1060,20 @@ Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor 
 
 PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleFrames,
                                      const std::vector<double>& residualsDb, double widthFrames,
-                                     double prior) {
+                                     double prior, const std::vector<int>& sampleGroup) {
   PathOffsets out;
   out.offsetDb.assign(static_cast<std::size_t>(std::max(frames, 0)), 0.0);
   out.heldOutResidualsDb.assign(residualsDb.size(), std::nan(""));
   const std::size_t n = std::min(sampleFrames.size(), residualsDb.size());
   const bool smooth = widthFrames > 0 && std::isfinite(widthFrames);
-  // Σ w r and Σ w at frame f, leaving out the samples at frame `skip` (−1: none).
-  auto sums = [&](int f, int skip, double* wr, double* w) {
+  const bool grouped = sampleGroup.size() >= n;
+  auto groupOf = [&](std::size_t i) { return grouped ? sampleGroup[i] : sampleFrames[i]; };
+  // Σ w r and Σ w at frame f, leaving out the samples of group `skip` (none
+  // when held is false).
+  auto sums = [&](int f, bool held, int skip, double* wr, double* w) {
     *wr = 0, *w = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (sampleFrames[i] == skip || !std::isfinite(residualsDb[i])) continue;
+      if ((held && groupOf(i) == skip) || !std::isfinite(residualsDb[i])) continue;
       const double d = (sampleFrames[i] - f) / widthFrames;
       if (d * d > 25) continue;
       const double wi = std::exp(-0.5 * d * d);
@@ -1080,14 +1083,14 @@ PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleF
   double wr = 0, w = 0;
   if (smooth)
     for (int f = 0; f < frames; ++f) {
-      sums(f, -1, &wr, &w);
+      sums(f, false, 0, &wr, &w);
       out.offsetDb[static_cast<std::size_t>(f)] = (w + prior) > 0 ? wr / (w + prior) : 0.0;
     }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(residualsDb[i])) continue;
     double off = 0;
     if (smooth) {
-      sums(sampleFrames[i], sampleFrames[i], &wr, &w);
+      sums(sampleFrames[i], true, groupOf(i), &wr, &w);
       off = (w + prior) > 0 ? wr / (w + prior) : 0;
     }
     out.heldOutResidualsDb[i] = residualsDb[i] - off;

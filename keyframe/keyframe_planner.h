@@ -377,14 +377,18 @@ Result<PredictorCalibration> calibratePredictor(KeyframeProbe& probe, Predictor 
 // widths) are dropped.
 struct PathOffsets {
   std::vector<double> offsetDb;  // per frame 0..frames−1, dB (0 when width is 0)
-  // Per sample: r_i minus its frame's offset computed without the samples at
-  // that frame: the error left after the correction, as a frame the
-  // calibration did not see would have it (NaN where r_i is not finite).
+  // Per sample: r_i minus its frame's offset computed without the samples of
+  // its own group: the error left after the correction, as a segment the
+  // calibration did not walk would have it (NaN where r_i is not finite).
   std::vector<double> heldOutResidualsDb;
 };
+// sampleGroup[i]: samples with the same value are held out together (the
+// planner passes one group per calibration segment: a frame's neighbours in
+// its own segment share its error, so leaving out only the frame would
+// understate what is left); empty = one group per frame.
 PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleFrames,
                                      const std::vector<double>& residualsDb, double widthFrames,
-                                     double prior = 2.0);
+                                     double prior = 2.0, const std::vector<int>& sampleGroup = {});
 
 // `predict` with offsetDb[frame] added (frames past its end: nothing added).
 FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb);

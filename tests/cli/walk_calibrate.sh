@@ -81,23 +81,25 @@ k = s["keyframe_frames"]
 expect(k[0] == 0 and k[-1] == 39 and all(2 <= b - a <= 12 for a, b in zip(k, k[1:-1])), "gaps within 2..12")
 expect(c["window"] is None and all(float(r["offset"]) == 0 for r in rows), "no window: null, offsets 0")
 # --calibration-window 3: the offsets and held-out residuals recomputed from
-# calibration.csv (Gaussian of 3 frames, prior 2 samples, weights past 5 widths dropped).
+# calibration.csv (Gaussian of 3 frames, prior 2 samples, weights past 5 widths
+# dropped; a sample held out with the rest of its walk's segment).
 wp = json.load(open(t + "/win/report.json"))["summary"]["planner"]
 wc = wp["calibration"]["window"]
 wrows = list(csv.DictReader(open(t + "/win/calibration.csv")))
 at = [int(r["frame"]) for r in wrows]
+seg = [(r["spacing"], r["k0"]) for r in wrows]  # held out together
 wres = [float(r["psnr"]) - float(r["predicted"]) for r in wrows]
 def offset(f, skip=None):
     num = den = 0.0
-    for g, r in zip(at, wres):
+    for g, s_, r in zip(at, seg, wres):
         d = (g - f) / 3.0
-        if g == skip or d * d > 25: continue
+        if s_ == skip or d * d > 25: continue
         w = math.exp(-0.5 * d * d); num += w * r; den += w
     return num / (den + 2.0)
 expect(wc["frames"] == 3 and wc["prior_samples"] == 2, "window 3 frames, prior 2: %s" % wc)
 worst = max(abs(offset(f) - float(r["offset"])) for f, r in zip(at, wrows))
 expect(worst < 2e-3, "offset column = the smoothed residuals (worst %.5f dB)" % worst)
-held = [r - offset(f, skip=f) for f, r in zip(at, wres)]
+held = [r - offset(f, skip=s_) for f, s_, r in zip(at, seg, wres)]
 rms = math.sqrt(sum(h * h for h in held) / len(held))
 expect(abs(rms - wc["held_out_residual_rms_db"]) < 2e-3, "held-out rms from the CSV %.4f = report %.4f" % (rms, wc["held_out_residual_rms_db"]))
 expect(wp["uncertainty_db"] == wc["held_out_residual_rms_db"], "the error model is what the window leaves")

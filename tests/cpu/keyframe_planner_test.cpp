@@ -476,8 +476,9 @@ TEST(KeyframePlannerFit, SixRegressorFitRecoversEverySlope) {
 
 // The calibration's residuals smoothed along the path: a constant residual is
 // the offset everywhere (prior 0), a step keeps both levels away from the
-// step, the prior shrinks toward 0, a frame's held-out residual is computed
-// without the samples at that frame, and non-finite residuals are skipped.
+// step, the prior shrinks toward 0, a sample's held-out residual is computed
+// without the samples of its group (default: its frame), and non-finite
+// residuals are skipped.
 TEST(KeyframePlannerPathOffsets, SmoothedResidualsAlongThePath) {
   const int frames = 100;
   std::vector<int> at;
@@ -513,6 +514,21 @@ TEST(KeyframePlannerPathOffsets, SmoothedResidualsAlongThePath) {
   EXPECT_GT(o.offsetDb[30], 0.5);
   EXPECT_DOUBLE_EQ(o.heldOutResidualsDb[29], 10.0);
   EXPECT_LT(o.heldOutResidualsDb[30], 0.0);  // its neighbour: the outlier pulled its offset up
+  // Held out by group: a stretch 28..32 off by +10 among zeros. One frame
+  // held out still has its group's other frames pulling its offset up; the
+  // whole group held out, the others say 0 and the residual stays whole.
+  std::vector<double> stretch(at.size(), 0.0);
+  std::vector<int> group(at.size());
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    group[i] = at[i] / 5;  // frames 25..29, 30..34, ...: 28..32 spans two groups
+    if (at[i] >= 28 && at[i] <= 32) stretch[i] = 10.0;
+  }
+  for (auto& g : group) g = (g == 5 || g == 6) ? 100 : g;  // 25..34 one group
+  PathOffsets perFrame = smoothResidualsAlongPath(frames, at, stretch, 3.0, 2.0);
+  PathOffsets perGroup = smoothResidualsAlongPath(frames, at, stretch, 3.0, 2.0, group);
+  EXPECT_EQ(perFrame.offsetDb, perGroup.offsetDb);  // groups only change what is held out
+  EXPECT_LT(perFrame.heldOutResidualsDb[29], 7.0);
+  EXPECT_DOUBLE_EQ(perGroup.heldOutResidualsDb[29], 10.0);
   // Width 0: no offsets; the held-out residuals are the residuals.
   PathOffsets none = smoothResidualsAlongPath(frames, at, step, 0.0);
   for (double v : none.offsetDb) EXPECT_EQ(v, 0.0);
