@@ -1671,8 +1671,9 @@ int main(int argc, char** argv) {
       walkPlan.useDefaultFit = false;
       walkPlan.fit = fit->fit;
       // The residuals the error model takes: the fit's, or with a window what
-      // is left after the path offsets (each frame's offset without its own
-      // samples, as for a frame the calibration did not see).
+      // is left after the path offsets (each sample's offset computed without
+      // its own calibration segment, as for a segment the calibration did not
+      // walk).
       std::vector<double> residuals;
       std::vector<int> sampleFrames, sampleSegment;  // segment: held out together
       for (std::size_t i = 0; i < cal->samples.size(); ++i) {
