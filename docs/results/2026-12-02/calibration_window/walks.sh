@@ -20,3 +20,7 @@ for s in fz oa in out; do
   w ${s}_p128_ppf_emp_w3 $s $ad --probe-size 128 --calibration-window 3
 done
 w out_p64_ppd_u0 out --schedule adaptive --plan-by walk-median --min-gap 2 --max-gap 20 --predictor probe-psnr+distance --calibrate-spacing 20 --target-psnr fixed:10 --plan-uncertainty 0
+# A third calibration walk, every 15 frames (with fixed:10's every 10 and every 20).
+for s in fz oa; do
+  w ${s}_p128_ppf_emp_w3_cal15 $s ${ad/--calibrate-spacing 20/--calibrate-spacing 15,20} --probe-size 128 --calibration-window 3
+done
