@@ -1690,11 +1690,7 @@ int main(int argc, char** argv) {
             keyframe::smoothResidualsAlongPath(frames, sampleFrames, residuals, walkCalWindow, 2.0, sampleSegment);
         walkPlan.frameOffsetDb = offsets.offsetDb;
         residuals = offsets.heldOutResidualsDb;
-        double ss = 0;
-        int m = 0;
-        for (double r : residuals)
-          if (std::isfinite(r)) ss += r * r, ++m;
-        residualSd = m > 0 ? std::sqrt(ss / m) : 0.0;
+        residualSd = offsets.heldOutRmsDb;
         const auto [lo, hi] = std::minmax_element(offsets.offsetDb.begin(), offsets.offsetDb.end());
         windowJ = {{"frames", walkCalWindow},
                    {"prior_samples", 2.0},

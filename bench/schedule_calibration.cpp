@@ -79,10 +79,9 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
   char line[200];
   for (std::size_t i = 0; i < cal.samples.size(); ++i) {
     const auto& s = cal.samples[i];
-    const auto f = static_cast<std::size_t>(s.frame);
     std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f,%.4f\n", cal.spacing[i], s.k0, s.k1,
                   s.frame, s.psnrDb, i < fit.predictedDb.size() ? fit.predictedDb[i] : std::nan(""),
-                  f < frameOffsetDb.size() ? frameOffsetDb[f] : 0.0);
+                  keyframe::pathOffsetAt(frameOffsetDb, s.frame));
     csv += line;
   }
   if (auto st = writeFileAtomic(outDir + "/calibration.csv", csv); !st) return st;
@@ -130,10 +129,8 @@ Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe
     for (int f = keyframes[j - 1] + 1; f < keyframes[j]; ++f) {
       auto ff = keyframe::predictorFeatures(probe, predictor, keyframes[j - 1], keyframes[j], f);
       if (!ff) return ff.error();
-      const auto fi = static_cast<std::size_t>(f);
       out.push_back({f, keyframes[j - 1], keyframes[j],
-                     keyframe::predictPsnr(fit, *ff, predictor) +
-                         (fi < frameOffsetDb.size() ? frameOffsetDb[fi] : 0.0)});
+                     keyframe::predictPsnr(fit, *ff, predictor) + keyframe::pathOffsetAt(frameOffsetDb, f)});
     }
   return out;
 }

@@ -1095,14 +1095,18 @@ PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleF
     }
     out.heldOutResidualsDb[i] = residualsDb[i] - off;
   }
+  double ss = 0;
+  int m = 0;
+  for (double r : out.heldOutResidualsDb)
+    if (std::isfinite(r)) ss += r * r, ++m;
+  out.heldOutRmsDb = m > 0 ? std::sqrt(ss / m) : 0.0;
   return out;
 }
 
 FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb) {
   if (offsetDb.empty()) return predict;
   return [predict = std::move(predict), off = std::move(offsetDb)](int k0, int k1, int f) {
-    const double v = predict(k0, k1, f);
-    return f >= 0 && static_cast<std::size_t>(f) < off.size() ? v + off[static_cast<std::size_t>(f)] : v;
+    return predict(k0, k1, f) + pathOffsetAt(off, f);
   };
 }
 

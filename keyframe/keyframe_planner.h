@@ -381,6 +381,7 @@ struct PathOffsets {
   // its own group: the error left after the correction, as a segment the
   // calibration did not walk would have it (NaN where r_i is not finite).
   std::vector<double> heldOutResidualsDb;
+  double heldOutRmsDb = 0;  // root mean square of the finite held-out residuals (0 when none)
 };
 // sampleGroup[i]: samples with the same value are held out together (the
 // planner passes one group per calibration segment: a frame's neighbours in
@@ -390,7 +391,13 @@ PathOffsets smoothResidualsAlongPath(int frames, const std::vector<int>& sampleF
                                      const std::vector<double>& residualsDb, double widthFrames,
                                      double prior = 2.0, const std::vector<int>& sampleGroup = {});
 
-// `predict` with offsetDb[frame] added (frames past its end: nothing added).
+// offsetDb[frame], or 0 for a frame outside it (also when it is empty).
+inline double pathOffsetAt(const std::vector<double>& offsetDb, int frame) {
+  return frame >= 0 && static_cast<std::size_t>(frame) < offsetDb.size()
+             ? offsetDb[static_cast<std::size_t>(frame)]
+             : 0.0;
+}
+// `predict` with pathOffsetAt(offsetDb, frame) added.
 FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb);
 
 // Plans an error-driven schedule for `frames` frames of a path. A GL context

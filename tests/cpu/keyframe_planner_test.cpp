@@ -493,6 +493,7 @@ TEST(KeyframePlannerPathOffsets, SmoothedResidualsAlongThePath) {
   ASSERT_EQ(c.heldOutResidualsDb.size(), constant.size());
   for (double v : c.offsetDb) EXPECT_NEAR(v, -1.5, 1e-12);
   for (double v : c.heldOutResidualsDb) EXPECT_NEAR(v, 0.0, 1e-12);
+  EXPECT_NEAR(c.heldOutRmsDb, 0.0, 1e-12);
   // The prior: Σw / (Σw + 2) of the residual, less where samples are sparse
   // (the ends) than in the middle.
   PathOffsets shrunk = smoothResidualsAlongPath(frames, at, constant, 3.0, 2.0);
@@ -540,6 +541,7 @@ TEST(KeyframePlannerPathOffsets, SmoothedResidualsAlongThePath) {
   EXPECT_EQ(n.offsetDb[90], 0.0);
   EXPECT_TRUE(std::isnan(n.heldOutResidualsDb[0]));
   EXPECT_EQ(n.heldOutResidualsDb[1], 4.0);  // nothing else near: offset 0
+  EXPECT_EQ(n.heldOutRmsDb, 4.0);            // the NaN left out
   // Predictions with offsets: frame i gains offsetDb[i]; frames past the end none.
   const FramePredictor p = withPathOffsets([](int, int, int f) { return 30.0 + f; }, {1.0, -2.0});
   EXPECT_EQ(p(0, 5, 0), 31.0);
