@@ -72,30 +72,41 @@ double PredictionError::probabilityAtLeast(double predictedDb, double targetPsnr
 std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int minGap, int maxGap,
                                           const FramePredictor& predict, long* evaluations,
                                           int* good, const PredictionError* error) {
-  HW_CHECK_GE(frames, 1);
-  HW_CHECK_GE(minGap, 1);
-  HW_CHECK_GE(maxGap, minGap);
   const PredictionError plain;
   const PredictionError& err = error ? *error : plain;
   HW_CHECK(std::isfinite(err.sigmaDb) && err.sigmaDb >= 0);
   long evals = 0;
-  if (evaluations) *evaluations = 0;
+  double g = 0;
+  // With an uncertainty the expected number reaching the target; whole
+  // numbers without one, so the DP's sums are exact.
+  std::vector<int> keys = fewestKeyframesForMedian(
+      frames, minGap, maxGap,
+      [&](int k0, int k1) {
+        double n = 0;
+        for (int f = k0 + 1; f < k1; ++f) {
+          ++evals;
+          n += err.probabilityAtLeast(predict(k0, k1, f), targetPsnrDb);
+        }
+        return n;
+      },
+      &g);
+  if (evaluations) *evaluations = evals;
+  if (good && !keys.empty()) *good = static_cast<int>(std::floor(g));
+  return keys;
+}
+
+std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
+                                          const SegmentGood& segmentGood, double* good) {
+  HW_CHECK_GE(frames, 1);
+  HW_CHECK_GE(minGap, 1);
+  HW_CHECK_GE(maxGap, minGap);
   if (frames < 3) return {};
   const auto un = static_cast<std::size_t>(frames), ug = static_cast<std::size_t>(maxGap);
-  // goodAt[k0·maxGap + g−1]: in-between frames of (k0, k0+g) predicted ≥ target
-  // (with an uncertainty: the expected number reaching it). Whole numbers
-  // without one, so the sums below are exact.
+  // goodAt[k0·maxGap + g−1]: segmentGood(k0, k0+g).
   std::vector<double> goodAt(un * ug, 0);
   for (int k0 = 0; k0 < frames; ++k0)
-    for (int g = 2; g <= maxGap && k0 + g < frames; ++g) {
-      double n = 0;
-      for (int f = k0 + 1; f < k0 + g; ++f) {
-        ++evals;
-        n += err.probabilityAtLeast(predict(k0, k0 + g, f), targetPsnrDb);
-      }
-      goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] = n;
-    }
-  if (evaluations) *evaluations = evals;
+    for (int g = 2; g <= maxGap && k0 + g < frames; ++g)
+      goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] = segmentGood(k0, k0 + g);
   // prev/cur[k]: most good frames in [0, k] with c keyframes, the last at k
   // (−1: impossible); parent[(c−1)·frames + k]: the keyframe before k.
   std::vector<double> prev(un, -1), cur(un, -1);
@@ -119,8 +130,8 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
       parent[static_cast<std::size_t>(c - 1) * un + static_cast<std::size_t>(k1)] = bestK;
     }
     const int inBetween = frames - c;
-    const double g = cur[un - 1];
-    if (inBetween >= 1 && 2 * g > inBetween) {
+    const double gl = cur[un - 1];
+    if (inBetween >= 1 && 2 * gl > inBetween) {
       std::vector<int> keys(static_cast<std::size_t>(c), 0);
       int k = last;
       for (int i = c; i >= 1; --i) {
@@ -128,7 +139,7 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
         if (i > 1) k = parent[static_cast<std::size_t>(i - 1) * un + static_cast<std::size_t>(k)];
       }
       HW_CHECK_EQ(keys.front(), 0);
-      if (good) *good = static_cast<int>(std::floor(g));
+      if (good) *good = gl;
       return keys;
     }
     std::swap(prev, cur);
@@ -1108,6 +1119,125 @@ FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offse
   return [predict = std::move(predict), off = std::move(offsetDb)](int k0, int k1, int f) {
     return predict(k0, k1, f) + pathOffsetAt(off, f);
   };
+}
+
+namespace {
+
+// In-between frames of (k0, k1) measured ≥ target (NaN counts below).
+double measuredGood(const std::vector<double>& psnr, double targetPsnrDb) {
+  double n = 0;
+  for (double v : psnr) n += v >= targetPsnrDb ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSearch& search,
+                                  const FramePredictor& predict, MeasuredSegments& measured,
+                                  const SegmentMeasurer& measure, const VerifyOptions& opt) {
+  if (frames < 3) return makeError("verified plan: expected at least 3 frames, got " + std::to_string(frames));
+  if (search.minGap < 1 || search.maxGap < search.minGap)
+    return makeError("verified plan: gaps must satisfy 1 <= min-gap <= max-gap, got min " +
+                     std::to_string(search.minGap) + ", max " + std::to_string(search.maxGap));
+  if (opt.maxRounds < 0 || !(opt.windowFrames >= 0) || !std::isfinite(opt.windowFrames) ||
+      !(opt.prior >= 0) || !std::isfinite(targetPsnrDb))
+    return makeError("verified plan: expected rounds >= 0, a finite window >= 0 frames, a prior >= 0 "
+                     "and a finite target, got " + std::to_string(opt.maxRounds) + ", " +
+                     std::to_string(opt.windowFrames) + ", " + std::to_string(opt.prior) + ", " +
+                     std::to_string(targetPsnrDb));
+  auto checkSegment = [&](const std::pair<int, int>& s, const std::vector<double>& v) -> Status {
+    if (s.first < 0 || s.second >= frames || s.second - s.first < 1 ||
+        v.size() != static_cast<std::size_t>(s.second - s.first - 1))
+      return makeError("verified plan: a measured segment (" + std::to_string(s.first) + ", " +
+                       std::to_string(s.second) + ") is outside the path or has " +
+                       std::to_string(v.size()) + " frames, expected " +
+                       std::to_string(std::max(s.second - s.first - 1, 0)));
+    return {};
+  };
+  for (const auto& [s, v] : measured) HW_TRY(checkSegment(s, v));
+  auto measuredOnly = [&](double* good) {
+    return fewestKeyframesForMedian(
+        frames, search.minGap, search.maxGap,
+        [&](int k0, int k1) {
+          const auto it = measured.find({k0, k1});
+          return it == measured.end() ? 0.0 : measuredGood(it->second, targetPsnrDb);
+        },
+        good);
+  };
+  VerifiedPlan out;
+  std::vector<int> plan;
+  std::vector<int> sampleFrames, groups;
+  std::vector<double> residuals;
+  for (int round = 0;; ++round) {
+    // Residuals of every measured frame an exact frame does not hide (as the
+    // calibration: an identical frame has no error to fit), one group per segment.
+    sampleFrames.clear(), groups.clear(), residuals.clear();
+    int group = 0;
+    for (const auto& [s, v] : measured) {
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        if (!std::isfinite(v[i]) || v[i] >= kProbePsnrCap) continue;
+        const int f = s.first + 1 + static_cast<int>(i);
+        sampleFrames.push_back(f);
+        residuals.push_back(v[i] - predict(s.first, s.second, f));
+        groups.push_back(group);
+      }
+      ++group;
+    }
+    PathOffsets offsets =
+        smoothResidualsAlongPath(frames, sampleFrames, residuals, opt.windowFrames, opt.prior, groups);
+    PredictionError err = search.error;
+    if (opt.empiricalError) {
+      err.setResiduals(offsets.heldOutResidualsDb);
+      if (err.residualsDb.empty()) err = search.error;
+    }
+    VerifyRound vr;
+    vr.heldOutRmsDb = offsets.heldOutRmsDb;
+    std::vector<int> safe = measuredOnly(nullptr);
+    vr.measuredOnlyKeyframes = static_cast<int>(safe.size());
+    plan = fewestKeyframesForMedian(frames, search.minGap, search.maxGap, [&](int k0, int k1) {
+      const auto it = measured.find({k0, k1});
+      if (it != measured.end()) return measuredGood(it->second, targetPsnrDb);
+      double n = 0;
+      for (int f = k0 + 1; f < k1; ++f)
+        n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f), targetPsnrDb);
+      return n;
+    });
+    if (plan.empty())  // unreachable: the densest schedule allowed, measured next
+      for (int k = 0; k < frames; k += search.minGap) plan.push_back(std::min(k, frames - 1));
+    if (plan.back() != frames - 1) plan.push_back(frames - 1);
+    std::vector<std::pair<int, int>> fresh;
+    for (std::size_t i = 1; i < plan.size(); ++i)
+      if (plan[i] - plan[i - 1] >= 2 && !measured.count({plan[i - 1], plan[i]}))
+        fresh.emplace_back(plan[i - 1], plan[i]);
+    vr.keyframes = static_cast<int>(plan.size());
+    vr.unmeasured = static_cast<int>(fresh.size());
+    out.offsetDb = opt.windowFrames > 0 ? offsets.offsetDb : std::vector<double>{};
+    out.converged = fresh.empty();
+    if (out.converged || round >= opt.maxRounds) {
+      out.rounds.push_back(vr);
+      break;
+    }
+    HW_TRY(measure(fresh, measured));
+    for (const auto& s : fresh) {
+      const auto it = measured.find(s);
+      if (it == measured.end())
+        return makeError("verified plan: segment (" + std::to_string(s.first) + ", " +
+                         std::to_string(s.second) + ") was to be measured but was not");
+      HW_TRY(checkSegment(s, it->second));
+      vr.framesMeasured += s.second - s.first - 1;
+    }
+    out.rounds.push_back(vr);
+  }
+  double good = 0;
+  std::vector<int> safe = measuredOnly(&good);
+  if (!safe.empty()) {
+    out.keyframes = std::move(safe);
+    out.measuredOnly = true;
+    out.good = static_cast<int>(std::lround(good));
+  } else {
+    out.keyframes = std::move(plan);
+  }
+  return out;
 }
 
 Result<PlanResult> planAdaptiveSchedule(GeometryRenderer& renderer,

@@ -85,6 +85,14 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
                                           long* evaluations = nullptr, int* good = nullptr,
                                           const PredictionError* error = nullptr);
 
+// The same dynamic programme on any count: segmentGood(k0, k1) is the
+// (expected) number of segment (k0, k1)'s in-between frames reaching the
+// target, in [0, k1 − k0 − 1]; called once for every segment with
+// 2 ≤ k1 − k0 ≤ maxGap. `good` (optional): the chosen schedule's sum.
+using SegmentGood = std::function<double(int k0, int k1)>;
+std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
+                                          const SegmentGood& segmentGood, double* good = nullptr);
+
 // The predictor's error model for the walk-median plan: measured = predicted
 // + e, with e either normal with standard deviation sigmaDb, or distributed
 // as the calibration frames' residuals (measured − predicted), when given:
@@ -399,6 +407,64 @@ inline double pathOffsetAt(const std::vector<double>& offsetDb, int frame) {
 }
 // `predict` with pathOffsetAt(offsetDb, frame) added.
 FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offsetDb);
+
+// ---- verified plans: measure the segments a plan picks ----------------------
+
+// A predictor's error is shared by a segment's frames, and a plan picks the
+// segments predicted best, i.e. those it overrates (on forza at 512² the
+// calibrated planner's segment-level error is 0.8 dB rms, and the fewest
+// keyframes reaching fixed-10's median need it well under 0.5 dB: docs/
+// results/2026-12-02/calibration_window). So measure them: walk the planned
+// segments not measured yet at the walk's own resolution, count their frames
+// exactly, correct the predictions near them along the path by their
+// residuals, and plan again; until a plan is made of measured segments only.
+// The schedule returned is the fewest keyframes whose median is reached by
+// measured segments alone: its median is known, not predicted.
+
+// Measured PSNRs (dB) of whole segments: (k0, k1) → in-between frames k0+1 ..
+// k1−1 in order; a frame identical to its reference counts kProbePsnrCap, as
+// the walk's statistics count it.
+using MeasuredSegments = std::map<std::pair<int, int>, std::vector<double>>;
+// Measures every segment of `segments` into `out` (every frame).
+using SegmentMeasurer = std::function<Status(const std::vector<std::pair<int, int>>& segments,
+                                             MeasuredSegments& out)>;
+
+struct VerifyOptions {
+  int maxRounds = 8;  // rounds that measure (≥ 0); 0 = plan once, measure nothing
+  // Path offsets (smoothResidualsAlongPath) from the residuals of every
+  // measured frame, frames; 0 = none.
+  double windowFrames = 0;
+  double prior = 2.0;  // samples, as smoothResidualsAlongPath
+  // The error model of unmeasured frames: the measured frames' residuals left
+  // by the offsets (held out by segment) instead of search.error.
+  bool empiricalError = true;
+};
+
+struct VerifyRound {
+  int keyframes = 0;      // this round's plan
+  int unmeasured = 0;     // of its segments, not measured before the round
+  int framesMeasured = 0; // in-between frames this round measured
+  // The fewest keyframes reaching the target on measured segments alone,
+  // before the round's measurements (0: none reaches it yet).
+  int measuredOnlyKeyframes = 0;
+  double heldOutRmsDb = 0;  // what the offsets leave of the measured frames' residuals
+};
+
+struct VerifiedPlan {
+  std::vector<int> keyframes;
+  bool converged = false;     // the last plan was all measured segments
+  bool measuredOnly = false;  // keyframes: every segment measured (else the last plan)
+  int good = 0;               // measuredOnly: in-between frames measured ≥ target
+  std::vector<VerifyRound> rounds;
+  std::vector<double> offsetDb;  // the last round's path offsets (empty: window 0)
+};
+
+// `predict`: the calibrated predictor without path offsets. `measured`
+// starts with what is known (the calibration walks' segments) and gains what
+// the rounds measure. search.criterion is ignored (walk-median).
+Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSearch& search,
+                                  const FramePredictor& predict, MeasuredSegments& measured,
+                                  const SegmentMeasurer& measure, const VerifyOptions& options);
 
 // Plans an error-driven schedule for `frames` frames of a path. A GL context
 // must be current; `renderer` draws the probes (its scene is the walk's).
