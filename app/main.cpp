@@ -662,6 +662,25 @@ int main(int argc, char** argv) {
                    "segment's computed without its own samples), frames; 0 = off")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
+  int walkVerifyRounds = 0;
+  walk->add_option("--verify-rounds", walkVerifyRounds,
+                   "Adaptive schedule, --plan-by walk-median, with a calibration: measure what the "
+                   "plan picks. Each round walks the planned segments not measured yet (at this "
+                   "resolution, with reference frames, no output), counts their frames exactly, "
+                   "corrects the predictions near them (--calibration-window) and plans again, "
+                   "until the plan is measured segments only or the rounds run out; the schedule "
+                   "is then the fewest keyframes whose median the measured segments alone reach. "
+                   "Rounds, 0 = off")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  double walkVerifyOptimism = 0;
+  walk->add_option("--verify-optimism", walkVerifyOptimism,
+                   "With --verify-rounds: added to the unmeasured frames' predictions while "
+                   "searching, dB, so segments that may beat their prediction get measured too; "
+                   "costs measuring rounds, never the target (the schedule is measured segments "
+                   "only)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   addPlannerOptions(walk, walkPlan, walkPredictor, walkPlanBy, false);
   bool asyncKeyframes = false;
   double keyframeCacheMb = 256;
@@ -1602,7 +1621,8 @@ int main(int argc, char** argv) {
   std::vector<bench::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
   double plannedTarget = 0;
   if (schedule != "adaptive")  // the calibration options only shape an adaptive plan
-    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty"})
+    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty", "--verify-rounds",
+                            "--verify-optimism"})
       if (walk->count(opt) > 0)
         return fail(std::string(opt) + ": expected --schedule adaptive (it shapes the planned "
                     "schedule), got --schedule " + schedule);
@@ -1645,7 +1665,14 @@ int main(int argc, char** argv) {
     if (walkCalWindow > 0 && calSpacings.empty())
       return fail("--calibration-window: expected --calibrate-spacing or --target-psnr fixed:G (the "
                   "window smooths the calibration's residuals), got neither");
+    if (walkVerifyRounds > 0 && calSpacings.empty())
+      return fail("--verify-rounds: expected --calibrate-spacing or --target-psnr fixed:G (the "
+                  "verified plan starts from the calibration's measured segments), got neither");
+    if (walkVerifyRounds > 0 && walkPlan.criterion != keyframe::PlanCriterion::WalkMedian)
+      return fail("--verify-rounds: expected --plan-by walk-median (it counts measured frames "
+                  "against the walk's median), got --plan-by " + walkPlanBy);
     std::string uncertaintyModel = uncertaintyDb > 0 ? "normal" : "none";
+    keyframe::MeasuredSegments measured;  // the calibration walks' segments
     keyframe::RenderOptions ropt;
     ropt.depthMode = wo.depthMode;
     auto probeRenderer = keyframe::GeometryRenderer::create(in->scene, ropt);
@@ -1666,6 +1693,7 @@ int main(int argc, char** argv) {
       auto cal = bench::runCalibrationWalks(in->scene, walkC.scene, in->path, frames, calSpacings, wo,
                                             !quiet);
       if (!cal) return fail(cal.error().message);
+      measured = cal->measured;
       auto fit = keyframe::calibratePredictor(probe, walkPlan.predictor, cal->samples);
       if (!fit) return fail(fit.error().message);
       walkPlan.useDefaultFit = false;
@@ -1733,8 +1761,75 @@ int main(int argc, char** argv) {
     auto plan = keyframe::planAdaptiveSchedule(probe, frames, walkPlan);
     if (!plan) return fail(plan.error().message);
     wo.keyframeFrames = plan->keyframes;
-    auto predicted =
-        bench::predictSchedule(probe, walkPlan.predictor, plan->fit, plan->keyframes, walkPlan.frameOffsetDb);
+    json verifyJ = nullptr;
+    if (walkVerifyRounds > 0) {
+      Stopwatch vsw;
+      Status failure;
+      const keyframe::PsnrFit fitUsed = plan->fit;
+      const keyframe::FramePredictor raw = [&](int k0, int k1, int f) {
+        if (!failure.ok()) return -std::numeric_limits<double>::infinity();
+        auto ft = keyframe::predictorFeatures(probe, walkPlan.predictor, k0, k1, f);
+        if (!ft) {
+          failure = ft.error();
+          return -std::numeric_limits<double>::infinity();
+        }
+        return keyframe::predictPsnr(fitUsed, *ft, walkPlan.predictor);
+      };
+      keyframe::PlanSearch search;
+      search.minGap = walkPlan.minGap;
+      search.maxGap = walkPlan.maxGap;
+      search.error = walkPlan.error;
+      keyframe::VerifyOptions verifyOpt;
+      verifyOpt.maxRounds = walkVerifyRounds;
+      verifyOpt.windowFrames = walkCalWindow;
+      verifyOpt.empiricalError = uncertaintyModel == "empirical";
+      verifyOpt.optimismDb = walkVerifyOptimism;
+      int round = 0;
+      const auto measure = [&](const std::vector<std::pair<int, int>>& segs, keyframe::MeasuredSegments& out) {
+        int n = 0;
+        for (const auto& sg : segs) n += sg.second - sg.first - 1;
+        ++round;
+        if (!quiet)
+          std::fprintf(stderr, "verify round %d/%d: walking %zu planned segments (%d in-between frames)\n",
+                       round, walkVerifyRounds, segs.size(), n);
+        return bench::measureSegments(in->scene, walkC.scene, in->path, frames, segs, wo, out);
+      };
+      const std::size_t before = measured.size();
+      auto v = keyframe::planVerified(frames, walkPlan.targetPsnrDb, search, raw, measured, measure, verifyOpt);
+      if (!failure.ok()) return fail(failure.error().message);
+      if (!v) return fail(v.error().message);
+      wo.keyframeFrames = v->keyframes;
+      walkPlan.frameOffsetDb = v->offsetDb;
+      json rounds = json::array();
+      int framesMeasured = 0;
+      for (const auto& r : v->rounds) {
+        framesMeasured += r.framesMeasured;
+        rounds.push_back({{"keyframes", r.keyframes}, {"unmeasured_segments", r.unmeasured},
+                          {"frames_measured", r.framesMeasured},
+                          {"measured_only_keyframes", r.measuredOnlyKeyframes},
+                          {"held_out_residual_rms_db", r.heldOutRmsDb}});
+      }
+      verifyJ = {{"max_rounds", walkVerifyRounds},
+                 {"optimism_db", walkVerifyOptimism},
+                 {"rounds", rounds},
+                 {"converged", v->converged},
+                 {"measured_only", v->measuredOnly},
+                 {"planned_keyframes", plan->keyframes.size()},
+                 {"keyframes", v->keyframes.size()},
+                 {"good_frames", v->measuredOnly ? json(v->good) : json(nullptr)},
+                 {"frames_measured", framesMeasured},
+                 {"segments_measured", measured.size() - before},
+                 {"ms", vsw.ms()}};
+      std::fprintf(stderr,
+                   "verified: %zu keyframes (planned %zu) after %zu rounds, %d in-between frames "
+                   "measured in %.0f ms; %s\n",
+                   v->keyframes.size(), plan->keyframes.size(), v->rounds.size() - 1, framesMeasured,
+                   vsw.ms(),
+                   v->measuredOnly ? "every segment measured: its median is known"
+                                   : "no measured schedule reaches the target: the last plan");
+    }
+    auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, wo.keyframeFrames,
+                                            walkPlan.frameOffsetDb);
     if (!predicted) return fail(predicted.error().message);
     plannedFrames = std::move(*predicted);
     plannedTarget = walkPlan.targetPsnrDb;
@@ -1750,7 +1845,8 @@ int main(int argc, char** argv) {
                    {"frames_per_segment", walkPlan.framesPerSegment},
                    {"fit", bench::fitJson(plan->fit)},
                    {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
-                   {"probes", plan->probes}, {"evaluations", plan->evaluations}};
+                   {"probes", plan->probes}, {"evaluations", plan->evaluations},
+                   {"verify", verifyJ}};
     std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",
                  plan->keyframes.size(), frames, plan->planMs, plan->probes, plan->probeRenderMs);
   }

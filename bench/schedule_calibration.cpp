@@ -14,6 +14,72 @@ namespace hw::bench {
 
 using nlohmann::json;
 
+namespace {
+
+// A walk that only measures: no output, the reference on, nothing that
+// depends on timing (a budget's refreshes) or on a baked database.
+WalkOptions measuringWalk(const WalkOptions& base, int frames, bool progress) {
+  WalkOptions o = base;
+  o.outDir.clear();
+  o.saveFrames = false;
+  o.strips = 0;
+  o.keepFrames = true;
+  o.reference = true;
+  o.progress = progress;
+  o.maxFrames = frames;
+  o.keyframeSource = {};
+  o.asyncKeyframes = false;
+  o.frameBudgetMs = 0;
+  o.frameBudgetAuto = false;
+  o.onlySegments.clear();
+  return o;
+}
+
+// The walk report's in-between frames into `out` by segment (a null PSNR:
+// identical to the reference, counted kProbePsnrCap as the walk counts it).
+void addMeasured(const json& frames, keyframe::MeasuredSegments& out) {
+  for (const json& f : frames) {
+    if (f["is_keyframe"].get<bool>()) continue;
+    const int k0 = f["keyframes"][0].get<int>(), k1 = f["keyframes"][1].get<int>();
+    const int i = f["index"].get<int>();
+    auto& v = out[{k0, k1}];
+    v.resize(static_cast<std::size_t>(std::max(k1 - k0 - 1, 0)), std::nan(""));
+    if (i > k0 && i < k1)
+      v[static_cast<std::size_t>(i - k0 - 1)] =
+          f["psnr"].is_number() ? f["psnr"].get<double>() : keyframe::kProbePsnrCap;
+  }
+}
+
+}  // namespace
+
+Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel,
+                       const scenes::CameraPath& path, int frames,
+                       const std::vector<std::pair<int, int>>& segments, const WalkOptions& base,
+                       keyframe::MeasuredSegments& out) {
+  if (segments.empty()) return {};
+  WalkOptions o = measuringWalk(base, frames, false);
+  o.onlySegments = segments;
+  o.keyframeFrames.clear();
+  for (const auto& [a, b] : segments) o.keyframeFrames.push_back(a), o.keyframeFrames.push_back(b);
+  o.keyframeFrames.push_back(0);
+  o.keyframeFrames.push_back(frames - 1);
+  std::sort(o.keyframeFrames.begin(), o.keyframeFrames.end());
+  o.keyframeFrames.erase(std::unique(o.keyframeFrames.begin(), o.keyframeFrames.end()), o.keyframeFrames.end());
+  auto res = runWalk(scene, sceneLabel, path, o);
+  if (!res) return res.error();
+  keyframe::MeasuredSegments got;
+  addMeasured(res->report["frames"], got);
+  for (const auto& s : segments) {
+    const auto it = got.find(s);
+    if (s.second - s.first < 2) continue;
+    if (it == got.end())
+      return makeError("measuring segments: the walk did not reach segment (" + std::to_string(s.first) +
+                       ", " + std::to_string(s.second) + ")");
+    out[s] = it->second;
+  }
+  return {};
+}
+
 Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
                                                 const std::string& sceneLabel,
                                                 const scenes::CameraPath& path, int frames,
@@ -28,18 +94,7 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
     if (g < 2 || g > frames - 1)
       return makeError("calibration walks: a spacing leaves no in-between frame or exceeds the path: "
                        "expected 2.." + std::to_string(frames - 1) + " frames, got " + std::to_string(g));
-    WalkOptions o = base;
-    o.outDir.clear();
-    o.saveFrames = false;
-    o.strips = 0;
-    o.keepFrames = true;
-    o.reference = true;
-    o.progress = progress;
-    o.maxFrames = frames;
-    o.keyframeSource = {};
-    o.asyncKeyframes = false;
-    o.frameBudgetMs = 0;
-    o.frameBudgetAuto = false;
+    WalkOptions o = measuringWalk(base, frames, progress);
     o.keyframeFrames = keyframe::KeyframeSchedule{frames, g, {}}.keyframes();
     if (progress)
       std::fprintf(stderr, "calibration walk %zu/%zu: keyframes every %d frames\n", w + 1,
@@ -51,6 +106,7 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
     cw.spacing = g;
     cw.keyframes = static_cast<int>(o.keyframeFrames.size());
     cw.walkMs = sw.ms();
+    addMeasured(res->report["frames"], cal.measured);
     for (const json& f : res->report["frames"]) {
       if (f["is_keyframe"].get<bool>()) continue;
       ++cw.inBetween;

@@ -38,6 +38,10 @@ struct ScheduleCalibration {
   // appears once per walk); spacing[i] is the walk samples[i] came from.
   std::vector<keyframe::CalibrationSample> samples;
   std::vector<int> spacing;
+  // Every in-between frame of every walk by segment, identical frames
+  // counting kProbePsnrCap (99 dB) as the walk's statistics count them: what
+  // the verified planner starts from.
+  keyframe::MeasuredSegments measured;
 };
 
 // Walks the first `frames` frames of `path` once per spacing (each in
@@ -50,6 +54,15 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
                                                 const scenes::CameraPath& path, int frames,
                                                 const std::vector<int>& spacings,
                                                 const WalkOptions& base, bool progress);
+
+// Walks only `segments` (keyframes at their ends; none may overlap another's
+// span) with the calibration walks' settings and adds every in-between
+// frame's PSNR to `out` (the verified planner's measurer). A GL context must
+// be current.
+Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel,
+                       const scenes::CameraPath& path, int frames,
+                       const std::vector<std::pair<int, int>>& segments, const WalkOptions& base,
+                       keyframe::MeasuredSegments& out);
 
 // calibration.csv (spacing,k0,k1,frame,psnr,predicted,offset: offset =
 // the path offset at the frame, 0 without --calibration-window) and

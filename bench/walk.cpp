@@ -124,6 +124,19 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       schedule.explicitFrames.end());
   if (!opt.keyframeFrames.empty() && schedule.explicitFrames.empty())
     schedule.explicitFrames.push_back(frames - 1);  // only the two ends
+  // onlySegments: the frames walked.
+  std::vector<char> walked;
+  if (!opt.onlySegments.empty()) {
+    walked.assign(static_cast<std::size_t>(frames), 0);
+    for (const auto& [a, b] : opt.onlySegments) {
+      if (a < 0 || b >= frames || a >= b || !schedule.isKeyframe(a) || !schedule.isKeyframe(b) ||
+          schedule.bracket(a + 1).second != b)
+        return makeError("walk: a segment to walk (" + std::to_string(a) + ", " + std::to_string(b) +
+                         ") is not two consecutive keyframes of the schedule within 0.." +
+                         std::to_string(frames - 1));
+      for (int i = a; i <= b; ++i) walked[static_cast<std::size_t>(i)] = 1;
+    }
+  }
   // Keyframe acquisition: cache (memory bound), and with asyncKeyframes a
   // worker that renders and meshes them ahead along the schedule. The worker
   // is declared first so it outlives the cache and is joined on every return.
@@ -402,6 +415,7 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
   };
 
   for (int i = 0; i < frames; ++i) {
+    if (!walked.empty() && !walked[static_cast<std::size_t>(i)]) continue;
     currentFrame = i;
     const Camera& cam = cams[static_cast<std::size_t>(i)];
     json fj;

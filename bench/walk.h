@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,12 @@ struct WalkOptions {
   // Keyframe frames in order (empty = every path.keyframeEvery frames); the
   // first and last frame are always keyframes.
   std::vector<int> keyframeFrames;
+  // Walk only the frames k0..k1 of these segments (each k0 < k1 keyframes of
+  // the schedule, none inside another's span); the others are skipped, not
+  // rendered nor reported. Empty = every frame. A frame depends only on its
+  // segment (the previous-frame chain starts at keyframe k0), so its PSNR is
+  // the full walk's (the verified planner measures segments this way).
+  std::vector<std::pair<int, int>> onlySegments;
   // Where keyframes come from (empty = rendered and meshed on the fly).
   keyframe::KeyframeCache::Source keyframeSource;
   // Keyframe acquisition (issue #8, stable frame rate). Bound on the bytes of

@@ -1140,11 +1140,12 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     return makeError("verified plan: gaps must satisfy 1 <= min-gap <= max-gap, got min " +
                      std::to_string(search.minGap) + ", max " + std::to_string(search.maxGap));
   if (opt.maxRounds < 0 || !(opt.windowFrames >= 0) || !std::isfinite(opt.windowFrames) ||
-      !(opt.prior >= 0) || !std::isfinite(targetPsnrDb))
-    return makeError("verified plan: expected rounds >= 0, a finite window >= 0 frames, a prior >= 0 "
-                     "and a finite target, got " + std::to_string(opt.maxRounds) + ", " +
-                     std::to_string(opt.windowFrames) + ", " + std::to_string(opt.prior) + ", " +
-                     std::to_string(targetPsnrDb));
+      !(opt.prior >= 0) || !std::isfinite(targetPsnrDb) || !(opt.optimismDb >= 0) ||
+      !std::isfinite(opt.optimismDb))
+    return makeError("verified plan: expected rounds >= 0, a finite window >= 0 frames, a prior >= 0, "
+                     "a finite target and a finite optimism >= 0 dB, got " + std::to_string(opt.maxRounds) +
+                     ", " + std::to_string(opt.windowFrames) + ", " + std::to_string(opt.prior) + ", " +
+                     std::to_string(targetPsnrDb) + ", " + std::to_string(opt.optimismDb));
   auto checkSegment = [&](const std::pair<int, int>& s, const std::vector<double>& v) -> Status {
     if (s.first < 0 || s.second >= frames || s.second - s.first < 1 ||
         v.size() != static_cast<std::size_t>(s.second - s.first - 1))
@@ -1199,7 +1200,8 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
       if (it != measured.end()) return measuredGood(it->second, targetPsnrDb);
       double n = 0;
       for (int f = k0 + 1; f < k1; ++f)
-        n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f), targetPsnrDb);
+        n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f) + opt.optimismDb,
+                                    targetPsnrDb);
       return n;
     });
     if (plan.empty())  // unreachable: the densest schedule allowed, measured next
@@ -1212,7 +1214,10 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     vr.keyframes = static_cast<int>(plan.size());
     vr.unmeasured = static_cast<int>(fresh.size());
     out.offsetDb = opt.windowFrames > 0 ? offsets.offsetDb : std::vector<double>{};
-    out.converged = fresh.empty();
+    // Done when the plan is measured, or when it needs no fewer keyframes
+    // than a measured schedule already reaching the target: nothing fewer is
+    // predicted to reach it.
+    out.converged = fresh.empty() || (!safe.empty() && plan.size() >= safe.size());
     if (out.converged || round >= opt.maxRounds) {
       out.rounds.push_back(vr);
       break;

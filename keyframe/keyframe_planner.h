@@ -417,7 +417,8 @@ FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offse
 // results/2026-12-02/calibration_window). So measure them: walk the planned
 // segments not measured yet at the walk's own resolution, count their frames
 // exactly, correct the predictions near them along the path by their
-// residuals, and plan again; until a plan is made of measured segments only.
+// residuals, and plan again; until a plan is made of measured segments only,
+// or needs no fewer keyframes than a measured schedule reaching the target.
 // The schedule returned is the fewest keyframes whose median is reached by
 // measured segments alone: its median is known, not predicted.
 
@@ -438,6 +439,13 @@ struct VerifyOptions {
   // The error model of unmeasured frames: the measured frames' residuals left
   // by the offsets (held out by segment) instead of search.error.
   bool empiricalError = true;
+  // Added to every unmeasured frame's prediction while searching, dB (≥ 0):
+  // segments that might do better than predicted get measured too. The
+  // schedule returned stays measured segments only, so optimism costs
+  // measurements, never the target; a plan converged with it means no
+  // schedule with fewer keyframes reaches the target even that much above
+  // its predictions.
+  double optimismDb = 0;
 };
 
 struct VerifyRound {
@@ -452,7 +460,9 @@ struct VerifyRound {
 
 struct VerifiedPlan {
   std::vector<int> keyframes;
-  bool converged = false;     // the last plan was all measured segments
+  // The last plan was all measured segments, or needed no fewer keyframes
+  // than a measured schedule (the search found nothing better to measure).
+  bool converged = false;
   bool measuredOnly = false;  // keyframes: every segment measured (else the last plan)
   int good = 0;               // measuredOnly: in-between frames measured ≥ target
   std::vector<VerifyRound> rounds;
