@@ -1806,17 +1806,17 @@ int main(int argc, char** argv) {
         framesMeasured += r.framesMeasured;
         rounds.push_back({{"keyframes", r.keyframes}, {"unmeasured_segments", r.unmeasured},
                           {"frames_measured", r.framesMeasured},
-                          {"measured_only_keyframes", r.measuredOnlyKeyframes},
+                          {"guaranteed_keyframes", r.guaranteedKeyframes},
                           {"held_out_residual_rms_db", r.heldOutRmsDb}});
       }
       verifyJ = {{"max_rounds", walkVerifyRounds},
                  {"optimism_db", walkVerifyOptimism},
                  {"rounds", rounds},
                  {"converged", v->converged},
-                 {"measured_only", v->measuredOnly},
+                 {"median_guaranteed", v->guaranteed},
                  {"planned_keyframes", plan->keyframes.size()},
                  {"keyframes", v->keyframes.size()},
-                 {"good_frames", v->measuredOnly ? json(v->good) : json(nullptr)},
+                 {"good_frames", v->guaranteed ? json(v->good) : json(nullptr)},
                  {"frames_measured", framesMeasured},
                  {"segments_measured", measured.size() - before},
                  {"ms", vsw.ms()}};
@@ -1825,8 +1825,8 @@ int main(int argc, char** argv) {
                    "measured in %.0f ms; %s\n",
                    v->keyframes.size(), plan->keyframes.size(), v->rounds.size() - 1, framesMeasured,
                    vsw.ms(),
-                   v->measuredOnly ? "every segment measured: its median is known"
-                                   : "no measured schedule reaches the target: the last plan");
+                   v->guaranteed ? "its median guaranteed by measured frames"
+                                 : "no measured schedule reaches the target: the last plan, not guaranteed");
     }
     auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, wo.keyframeFrames,
                                             walkPlan.frameOffsetDb);

@@ -96,7 +96,8 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
 }
 
 std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
-                                          const SegmentGood& segmentGood, double* good) {
+                                          const SegmentGood& segmentGood, double* good,
+                                          int minKeyframes) {
   HW_CHECK_GE(frames, 1);
   HW_CHECK_GE(minGap, 1);
   HW_CHECK_GE(maxGap, minGap);
@@ -131,7 +132,7 @@ std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
     }
     const int inBetween = frames - c;
     const double gl = cur[un - 1];
-    if (inBetween >= 1 && 2 * gl > inBetween) {
+    if (inBetween >= 1 && 2 * gl > inBetween && c >= minKeyframes) {
       std::vector<int> keys(static_cast<std::size_t>(c), 0);
       int k = last;
       for (int i = c; i >= 1; --i) {
@@ -1156,7 +1157,7 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     return {};
   };
   for (const auto& [s, v] : measured) HW_TRY(checkSegment(s, v));
-  auto measuredOnly = [&](double* good) {
+  auto guaranteedPlan = [&](double* good) {
     return fewestKeyframesForMedian(
         frames, search.minGap, search.maxGap,
         [&](int k0, int k1) {
@@ -1193,17 +1194,24 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     }
     VerifyRound vr;
     vr.heldOutRmsDb = offsets.heldOutRmsDb;
-    std::vector<int> safe = measuredOnly(nullptr);
-    vr.measuredOnlyKeyframes = static_cast<int>(safe.size());
-    plan = fewestKeyframesForMedian(frames, search.minGap, search.maxGap, [&](int k0, int k1) {
-      const auto it = measured.find({k0, k1});
-      if (it != measured.end()) return measuredGood(it->second, targetPsnrDb);
-      double n = 0;
-      for (int f = k0 + 1; f < k1; ++f)
-        n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f) + opt.optimismDb,
-                                    targetPsnrDb);
-      return n;
-    });
+    std::vector<int> safe = guaranteedPlan(nullptr);
+    vr.guaranteedKeyframes = static_cast<int>(safe.size());
+    // The search aims one keyframe below the measured schedule (when there is
+    // one): the plan of that many most likely to reach the target, not the
+    // fewest the optimism allows, which is rarely real and costs rounds.
+    const int aim = safe.empty() ? 0 : static_cast<int>(safe.size()) - 1;
+    plan = fewestKeyframesForMedian(
+        frames, search.minGap, search.maxGap,
+        [&](int k0, int k1) {
+          const auto it = measured.find({k0, k1});
+          if (it != measured.end()) return measuredGood(it->second, targetPsnrDb);
+          double n = 0;
+          for (int f = k0 + 1; f < k1; ++f)
+            n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f) + opt.optimismDb,
+                                        targetPsnrDb);
+          return n;
+        },
+        nullptr, aim);
     if (plan.empty())  // unreachable: the densest schedule allowed, measured next
       for (int k = 0; k < frames; k += search.minGap) plan.push_back(std::min(k, frames - 1));
     if (plan.back() != frames - 1) plan.push_back(frames - 1);
@@ -1234,10 +1242,10 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     out.rounds.push_back(vr);
   }
   double good = 0;
-  std::vector<int> safe = measuredOnly(&good);
+  std::vector<int> safe = guaranteedPlan(&good);
   if (!safe.empty()) {
     out.keyframes = std::move(safe);
-    out.measuredOnly = true;
+    out.guaranteed = true;
     out.good = static_cast<int>(std::lround(good));
   } else {
     out.keyframes = std::move(plan);

@@ -89,9 +89,12 @@ std::vector<int> fewestKeyframesForMedian(int frames, double targetPsnrDb, int m
 // (expected) number of segment (k0, k1)'s in-between frames reaching the
 // target, in [0, k1 − k0 − 1]; called once for every segment with
 // 2 ≤ k1 − k0 ≤ maxGap. `good` (optional): the chosen schedule's sum.
+// minKeyframes: the fewest keyframes *at least* this many (the schedule of
+// that many with the most good frames, when fewer already reach the target).
 using SegmentGood = std::function<double(int k0, int k1)>;
 std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
-                                          const SegmentGood& segmentGood, double* good = nullptr);
+                                          const SegmentGood& segmentGood, double* good = nullptr,
+                                          int minKeyframes = 0);
 
 // The predictor's error model for the walk-median plan: measured = predicted
 // + e, with e either normal with standard deviation sigmaDb, or distributed
@@ -419,8 +422,9 @@ FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offse
 // exactly, correct the predictions near them along the path by their
 // residuals, and plan again; until a plan is made of measured segments only,
 // or needs no fewer keyframes than a measured schedule reaching the target.
-// The schedule returned is the fewest keyframes whose median is reached by
-// measured segments alone: its median is known, not predicted.
+// The schedule returned is the fewest keyframes whose median measured frames
+// alone guarantee: more than half of its in-between frames are measured ≥
+// the target, a segment not measured counting as below it.
 
 // Measured PSNRs (dB) of whole segments: (k0, k1) → in-between frames k0+1 ..
 // k1−1 in order; a frame identical to its reference counts kProbePsnrCap, as
@@ -452,9 +456,9 @@ struct VerifyRound {
   int keyframes = 0;      // this round's plan
   int unmeasured = 0;     // of its segments, not measured before the round
   int framesMeasured = 0; // in-between frames this round measured
-  // The fewest keyframes reaching the target on measured segments alone,
-  // before the round's measurements (0: none reaches it yet).
-  int measuredOnlyKeyframes = 0;
+  // The fewest keyframes whose median measured frames alone guarantee,
+  // before the round's measurements (0: none yet).
+  int guaranteedKeyframes = 0;
   double heldOutRmsDb = 0;  // what the offsets leave of the measured frames' residuals
 };
 
@@ -463,8 +467,11 @@ struct VerifiedPlan {
   // The last plan was all measured segments, or needed no fewer keyframes
   // than a measured schedule (the search found nothing better to measure).
   bool converged = false;
-  bool measuredOnly = false;  // keyframes: every segment measured (else the last plan)
-  int good = 0;               // measuredOnly: in-between frames measured ≥ target
+  // keyframes: measured frames alone reach the target for more than half of
+  // its in-between frames (segments not measured count as missing it), so
+  // its median is at least the target; false: none does, the last plan.
+  bool guaranteed = false;
+  int good = 0;  // guaranteed: its in-between frames measured ≥ target (a lower bound)
   std::vector<VerifyRound> rounds;
   std::vector<double> offsetDb;  // the last round's path offsets (empty: window 0)
 };
