@@ -40,7 +40,8 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   std::map<int, double> psnr;  // in-between frames; identical counts 99 as the walk's stats
   for (const auto& f : whole->report["frames"])
     if (!f["is_keyframe"].get<bool>())
-      psnr[f["index"].get<int>()] = f["psnr"].is_number() ? f["psnr"].get<double>() : keyframe::kProbePsnrCap;
+      psnr[f["index"].get<int>()] =
+          f["psnr"].is_number() ? f["psnr"].get<double>() : keyframe::kProbePsnrCap;
   ASSERT_EQ(psnr.size(), 35u);
 
   // Only (7, 15) and (26, 39): their frames and keyframes, nothing else.
@@ -62,7 +63,9 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   // measureSegments: the same frames, by segment; the schedule's other
   // keyframes are not needed (it puts keyframes at the segments' ends only).
   keyframe::MeasuredSegments m;
-  ASSERT_TRUE(bench::measureSegments(scene, "indoor", path, 40, {{7, 15}, {26, 39}, {2, 5}}, options(), m).ok());
+  ASSERT_TRUE(
+      bench::measureSegments(scene, "indoor", path, 40, {{7, 15}, {26, 39}, {2, 5}}, options(), m)
+          .ok());
   ASSERT_EQ(m.size(), 3u);
   for (const auto& [seg, v] : m) {
     ASSERT_EQ(v.size(), static_cast<std::size_t>(seg.second - seg.first - 1));
@@ -84,14 +87,16 @@ TEST_F(MeasureSegmentsTest, SegmentsThatAreNotConsecutiveKeyframesAreErrors) {
   wo.onlySegments = {{7, 26}};  // 15 lies between
   auto r = bench::runWalk(scene, "indoor", path, wo);
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("consecutive keyframes"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("consecutive keyframes"), std::string::npos)
+      << r.error().message;
   wo.onlySegments = {{30, 45}};  // past the path
   EXPECT_FALSE(bench::runWalk(scene, "indoor", path, wo).ok());
   // Overlapping segments cannot both be walked: one's end lies in the other.
   keyframe::MeasuredSegments m;
   auto st = bench::measureSegments(scene, "indoor", path, 40, {{7, 15}, {10, 20}}, options(), m);
   ASSERT_FALSE(st.ok());
-  EXPECT_NE(st.error().message.find("consecutive keyframes"), std::string::npos) << st.error().message;
+  EXPECT_NE(st.error().message.find("consecutive keyframes"), std::string::npos)
+      << st.error().message;
   EXPECT_TRUE(m.empty());
 }
 
