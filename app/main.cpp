@@ -1800,6 +1800,10 @@ int main(int argc, char** argv) {
       if (!v) return fail(v.error().message);
       wo.keyframeFrames = v->keyframes;
       walkPlan.frameOffsetDb = v->offsetDb;
+      int referenceKeyframes = 0;
+      if (targetSpacing > 0) referenceKeyframes = static_cast<int>(keyframe::KeyframeSchedule{frames, targetSpacing, {}}.keyframes().size());
+      if (auto st = bench::writeVerifyPlot(walkOut, *v, referenceKeyframes, "fixed every " + std::to_string(targetSpacing) + " frames"); !st)
+        return fail(st.error().message);
       json rounds = json::array();
       int framesMeasured = 0;
       for (const auto& r : v->rounds) {

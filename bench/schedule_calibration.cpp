@@ -128,6 +128,39 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
   return cal;
 }
 
+Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& plan,
+                       int referenceKeyframes, const std::string& referenceLabel) {
+  Series planned, guaranteed, reference;
+  planned.label = "the round's plan (measured + predicted)";
+  guaranteed.label = "guaranteed by measured frames";
+  double x = 0;
+  for (const keyframe::VerifyRound& r : plan.rounds) {
+    planned.x.push_back(x);
+    planned.y.push_back(r.keyframes);
+    guaranteed.x.push_back(x);
+    guaranteed.y.push_back(r.guaranteedKeyframes > 0 ? r.guaranteedKeyframes : std::nan(""));
+    x += r.framesMeasured;
+  }
+  std::vector<Series> series{planned, guaranteed};
+  if (referenceKeyframes > 0 && x > 0) {
+    reference.label = referenceLabel;
+    reference.markers = false;
+    reference.colour = Rgba8{90, 90, 90, 255};
+    reference.x = {0, x};
+    reference.y = {static_cast<double>(referenceKeyframes), static_cast<double>(referenceKeyframes)};
+    series.push_back(reference);
+  }
+  PlotOptions po;
+  char title[200];
+  std::snprintf(title, sizeof title, "verified plan: %zu keyframes after %zu rounds%s",
+                plan.keyframes.size(), plan.rounds.size() - 1,
+                plan.guaranteed ? " (median guaranteed)" : " (not guaranteed)");
+  po.title = title;
+  po.xLabel = "in-between frames measured before the round";
+  po.yLabel = "keyframes";
+  return writePlot(outDir + "/verify.png", series, po);
+}
+
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
                         const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
                         const std::vector<double>& frameOffsetDb) {

@@ -93,6 +93,12 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
                                   const nlohmann::json& reportFrames, double targetDb,
                                   const std::vector<int>& keyframes);
 
+// verify.png into outDir: each round of a verified plan against the frames
+// measured before it, its plan's keyframes and the guaranteed schedule's;
+// referenceKeyframes (> 0) as a line, labelled referenceLabel.
+Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& plan,
+                       int referenceKeyframes, const std::string& referenceLabel);
+
 // The report's summary.planner.calibration block.
 nlohmann::json calibrationJson(const ScheduleCalibration& cal,
                                const keyframe::PredictorCalibration& fit);

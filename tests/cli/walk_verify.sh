@@ -13,6 +13,7 @@ plan=(--schedule adaptive --plan-by walk-median --predictor probe-psnr --max-gap
 "$hw" walk "${common[@]}" "${plan[@]}" --calibration-window 3 --verify-rounds 12 --verify-optimism 0.5 \
   --out "$tmp/v" >"$tmp/v.out" 2>"$tmp/v.err"
 rc=$?; check "verified walk exits 0 ($(tail -2 "$tmp/v.err"))" test $rc -eq 0
+check "verify.png written" test -s "$tmp/v/verify.png"
 check "stderr reports the verified plan" grep -q "verified: .* keyframes (planned .*) after .* rounds" "$tmp/v.err"
 "$hw" walk "${common[@]}" "${plan[@]}" --verify-rounds 0 --out "$tmp/off" >"$tmp/off.out" 2>&1
 rc=$?; check "--verify-rounds 0 exits 0" test $rc -eq 0
