@@ -1171,8 +1171,9 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
   std::vector<int> sampleFrames, groups;
   std::vector<double> residuals;
   for (int round = 0;; ++round) {
-    // Residuals of every measured frame an exact frame does not hide (as the
-    // calibration: an identical frame has no error to fit), one group per segment.
+    // Residuals of every measured frame, one group per segment; frames
+    // identical to their reference are skipped, as the calibration skips
+    // them (no error to fit).
     sampleFrames.clear(), groups.clear(), residuals.clear();
     int group = 0;
     for (const auto& [s, v] : measured) {
@@ -1196,9 +1197,10 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     vr.heldOutRmsDb = offsets.heldOutRmsDb;
     std::vector<int> safe = guaranteedPlan(nullptr);
     vr.guaranteedKeyframes = static_cast<int>(safe.size());
-    // The search aims one keyframe below the measured schedule (when there is
-    // one): the plan of that many most likely to reach the target, not the
-    // fewest the optimism allows, which is rarely real and costs rounds.
+    // The search aims one keyframe below the guaranteed schedule (when there
+    // is one): the plan of that many most likely to reach the target, not the
+    // fewest the optimism allows, which is rarely real and costs rounds
+    // (docs/results/2026-12-02/verified_plan: table_verify.py).
     const int aim = safe.empty() ? 0 : static_cast<int>(safe.size()) - 1;
     plan = fewestKeyframesForMedian(
         frames, search.minGap, search.maxGap,
@@ -1223,8 +1225,8 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
     vr.unmeasured = static_cast<int>(fresh.size());
     out.offsetDb = opt.windowFrames > 0 ? offsets.offsetDb : std::vector<double>{};
     // Done when the plan is measured, or when it needs no fewer keyframes
-    // than a measured schedule already reaching the target: nothing fewer is
-    // predicted to reach it.
+    // than the guaranteed schedule: nothing fewer is predicted to reach the
+    // target.
     out.converged = fresh.empty() || (!safe.empty() && plan.size() >= safe.size());
     if (out.converged || round >= opt.maxRounds) {
       out.rounds.push_back(vr);

@@ -420,8 +420,9 @@ FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offse
 // results/2026-12-02/calibration_window). So measure them: walk the planned
 // segments not measured yet at the walk's own resolution, count their frames
 // exactly, correct the predictions near them along the path by their
-// residuals, and plan again; until a plan is made of measured segments only,
-// or needs no fewer keyframes than a measured schedule reaching the target.
+// residuals, and plan again, aiming one keyframe below the guaranteed
+// schedule (below); until a plan is made of measured segments only, or needs
+// no fewer keyframes than the guaranteed schedule.
 // The schedule returned is the fewest keyframes whose median measured frames
 // alone guarantee: more than half of its in-between frames are measured ≥
 // the target, a segment not measured counting as below it.
@@ -445,10 +446,10 @@ struct VerifyOptions {
   bool empiricalError = true;
   // Added to every unmeasured frame's prediction while searching, dB (≥ 0):
   // segments that might do better than predicted get measured too. The
-  // schedule returned stays measured segments only, so optimism costs
-  // measurements, never the target; a plan converged with it means no
-  // schedule with fewer keyframes reaches the target even that much above
-  // its predictions.
+  // schedule returned stays a guaranteed one, so optimism costs
+  // measurements, never the target; converged with it means no schedule
+  // with fewer keyframes is predicted to reach the target even that much
+  // above its predictions.
   double optimismDb = 0;
 };
 
@@ -465,7 +466,7 @@ struct VerifyRound {
 struct VerifiedPlan {
   std::vector<int> keyframes;
   // The last plan was all measured segments, or needed no fewer keyframes
-  // than a measured schedule (the search found nothing better to measure).
+  // than the guaranteed schedule (the search found nothing better to measure).
   bool converged = false;
   // keyframes: measured frames alone reach the target for more than half of
   // its in-between frames (segments not measured count as missing it), so
