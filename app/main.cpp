@@ -668,9 +668,10 @@ int main(int argc, char** argv) {
                    "plan picks. Each round walks the planned segments not measured yet (at this "
                    "resolution, with reference frames, no output), counts their frames exactly, "
                    "corrects the predictions near them (--calibration-window) and plans again, "
-                   "until the plan is measured segments only or the rounds run out; the schedule "
-                   "is then the fewest keyframes whose median the measured segments alone reach. "
-                   "Rounds, 0 = off")
+                   "aiming one keyframe below the best schedule whose median measured frames alone "
+                   "guarantee; it stops when the plan is all measured, needs no fewer keyframes, or "
+                   "the rounds run out. The walk runs that guaranteed schedule (its median is at "
+                   "least the target); verify.png shows the rounds. Rounds, 0 = off")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   double walkVerifyOptimism = 1.0;
@@ -1666,6 +1667,9 @@ int main(int argc, char** argv) {
     if (walkCalWindow > 0 && calSpacings.empty())
       return fail("--calibration-window: expected --calibrate-spacing or --target-psnr fixed:G (the "
                   "window smooths the calibration's residuals), got neither");
+    if (walk->count("--verify-optimism") > 0 && walkVerifyRounds == 0)
+      return fail("--verify-optimism: expected --verify-rounds 1 or more (it shapes the verified "
+                  "plan's search), got --verify-rounds 0");
     if (walkVerifyRounds > 0 && calSpacings.empty())
       return fail("--verify-rounds: expected --calibrate-spacing or --target-psnr fixed:G (the "
                   "verified plan starts from the calibration's measured segments), got neither");
