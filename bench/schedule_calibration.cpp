@@ -64,7 +64,8 @@ Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel
   o.keyframeFrames.push_back(0);
   o.keyframeFrames.push_back(frames - 1);
   std::sort(o.keyframeFrames.begin(), o.keyframeFrames.end());
-  o.keyframeFrames.erase(std::unique(o.keyframeFrames.begin(), o.keyframeFrames.end()), o.keyframeFrames.end());
+  o.keyframeFrames.erase(std::unique(o.keyframeFrames.begin(), o.keyframeFrames.end()),
+                         o.keyframeFrames.end());
   auto res = runWalk(scene, sceneLabel, path, o);
   if (!res) return res.error();
   keyframe::MeasuredSegments got;
@@ -73,8 +74,8 @@ Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel
     const auto it = got.find(s);
     if (s.second - s.first < 2) continue;
     if (it == got.end())
-      return makeError("measuring segments: the walk did not reach segment (" + std::to_string(s.first) +
-                       ", " + std::to_string(s.second) + ")");
+      return makeError("measuring segments: the walk did not reach segment (" +
+                       std::to_string(s.first) + ", " + std::to_string(s.second) + ")");
     out[s] = it->second;
   }
   return {};
@@ -147,7 +148,8 @@ Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& 
     reference.markers = false;
     reference.colour = Rgba8{90, 90, 90, 255};
     reference.x = {0, x};
-    reference.y = {static_cast<double>(referenceKeyframes), static_cast<double>(referenceKeyframes)};
+    reference.y = {static_cast<double>(referenceKeyframes),
+                   static_cast<double>(referenceKeyframes)};
     series.push_back(reference);
   }
   PlotOptions po;

@@ -131,7 +131,8 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
     for (const auto& [a, b] : opt.onlySegments) {
       if (a < 0 || b >= frames || a >= b || !schedule.isKeyframe(a) || !schedule.isKeyframe(b) ||
           schedule.bracket(a + 1).second != b)
-        return makeError("walk: a segment to walk (" + std::to_string(a) + ", " + std::to_string(b) +
+        return makeError("walk: a segment to walk (" + std::to_string(a) + ", " +
+                         std::to_string(b) +
                          ") is not two consecutive keyframes of the schedule within 0.." +
                          std::to_string(frames - 1));
       for (int i = a; i <= b; ++i) walked[static_cast<std::size_t>(i)] = 1;

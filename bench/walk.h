@@ -6,11 +6,10 @@
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
 #include <cstddef>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 #include "gapfill/compose.h"

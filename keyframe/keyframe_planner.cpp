@@ -107,7 +107,8 @@ std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
   std::vector<double> goodAt(un * ug, 0);
   for (int k0 = 0; k0 < frames; ++k0)
     for (int g = 2; g <= maxGap && k0 + g < frames; ++g)
-      goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] = segmentGood(k0, k0 + g);
+      goodAt[static_cast<std::size_t>(k0) * ug + static_cast<std::size_t>(g - 1)] =
+          segmentGood(k0, k0 + g);
   // prev/cur[k]: most good frames in [0, k] with c keyframes, the last at k
   // (−1: impossible); parent[(c−1)·frames + k]: the keyframe before k.
   std::vector<double> prev(un, -1), cur(un, -1);
@@ -1136,17 +1137,20 @@ double measuredGood(const std::vector<double>& psnr, double targetPsnrDb) {
 Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSearch& search,
                                   const FramePredictor& predict, MeasuredSegments& measured,
                                   const SegmentMeasurer& measure, const VerifyOptions& opt) {
-  if (frames < 3) return makeError("verified plan: expected at least 3 frames, got " + std::to_string(frames));
+  if (frames < 3)
+    return makeError("verified plan: expected at least 3 frames, got " + std::to_string(frames));
   if (search.minGap < 1 || search.maxGap < search.minGap)
     return makeError("verified plan: gaps must satisfy 1 <= min-gap <= max-gap, got min " +
                      std::to_string(search.minGap) + ", max " + std::to_string(search.maxGap));
   if (opt.maxRounds < 0 || !(opt.windowFrames >= 0) || !std::isfinite(opt.windowFrames) ||
       !(opt.prior >= 0) || !std::isfinite(targetPsnrDb) || !(opt.optimismDb >= 0) ||
       !std::isfinite(opt.optimismDb))
-    return makeError("verified plan: expected rounds >= 0, a finite window >= 0 frames, a prior >= 0, "
-                     "a finite target and a finite optimism >= 0 dB, got " + std::to_string(opt.maxRounds) +
-                     ", " + std::to_string(opt.windowFrames) + ", " + std::to_string(opt.prior) + ", " +
-                     std::to_string(targetPsnrDb) + ", " + std::to_string(opt.optimismDb));
+    return makeError(
+        "verified plan: expected rounds >= 0, a finite window >= 0 frames, a prior >= 0, "
+        "a finite target and a finite optimism >= 0 dB, got " +
+        std::to_string(opt.maxRounds) + ", " + std::to_string(opt.windowFrames) + ", " +
+        std::to_string(opt.prior) + ", " + std::to_string(targetPsnrDb) + ", " +
+        std::to_string(opt.optimismDb));
   auto checkSegment = [&](const std::pair<int, int>& s, const std::vector<double>& v) -> Status {
     if (s.first < 0 || s.second >= frames || s.second - s.first < 1 ||
         v.size() != static_cast<std::size_t>(s.second - s.first - 1))
@@ -1186,8 +1190,8 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
       }
       ++group;
     }
-    PathOffsets offsets =
-        smoothResidualsAlongPath(frames, sampleFrames, residuals, opt.windowFrames, opt.prior, groups);
+    PathOffsets offsets = smoothResidualsAlongPath(frames, sampleFrames, residuals,
+                                                   opt.windowFrames, opt.prior, groups);
     PredictionError err = search.error;
     if (opt.empiricalError) {
       err.setResiduals(offsets.heldOutResidualsDb);
@@ -1209,8 +1213,9 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
           if (it != measured.end()) return measuredGood(it->second, targetPsnrDb);
           double n = 0;
           for (int f = k0 + 1; f < k1; ++f)
-            n += err.probabilityAtLeast(predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f) + opt.optimismDb,
-                                        targetPsnrDb);
+            n += err.probabilityAtLeast(
+                predict(k0, k1, f) + pathOffsetAt(offsets.offsetDb, f) + opt.optimismDb,
+                targetPsnrDb);
           return n;
         },
         nullptr, aim);

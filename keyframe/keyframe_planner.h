@@ -432,8 +432,8 @@ FramePredictor withPathOffsets(FramePredictor predict, std::vector<double> offse
 // the walk's statistics count it.
 using MeasuredSegments = std::map<std::pair<int, int>, std::vector<double>>;
 // Measures every segment of `segments` into `out` (every frame).
-using SegmentMeasurer = std::function<Status(const std::vector<std::pair<int, int>>& segments,
-                                             MeasuredSegments& out)>;
+using SegmentMeasurer =
+    std::function<Status(const std::vector<std::pair<int, int>>& segments, MeasuredSegments& out)>;
 
 struct VerifyOptions {
   int maxRounds = 8;  // rounds that measure (≥ 0); 0 = plan once, measure nothing
@@ -454,9 +454,9 @@ struct VerifyOptions {
 };
 
 struct VerifyRound {
-  int keyframes = 0;      // this round's plan
-  int unmeasured = 0;     // of its segments, not measured before the round
-  int framesMeasured = 0; // in-between frames this round measured
+  int keyframes = 0;       // this round's plan
+  int unmeasured = 0;      // of its segments, not measured before the round
+  int framesMeasured = 0;  // in-between frames this round measured
   // The fewest keyframes whose median measured frames alone guarantee,
   // before the round's measurements (0: none yet).
   int guaranteedKeyframes = 0;

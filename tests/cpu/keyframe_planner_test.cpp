@@ -660,7 +660,8 @@ TEST(KeyframePlannerVerified, MeasuresWhatThePlanPicksUntilItsMedianIsKnown) {
   MeasuredSegments measured = path.calibration();
   std::set<std::pair<int, int>> asked;
   int calls = 0;
-  const SegmentMeasurer measure = [&](const std::vector<std::pair<int, int>>& segs, MeasuredSegments& out) {
+  const SegmentMeasurer measure = [&](const std::vector<std::pair<int, int>>& segs,
+                                      MeasuredSegments& out) {
     ++calls;
     EXPECT_FALSE(segs.empty());
     for (const auto& s : segs) {
@@ -724,7 +725,8 @@ TEST(KeyframePlannerVerified, WithoutRoundsNothingIsMeasuredAndTheKnownSegmentsD
   VerifyOptions vo;
   vo.maxRounds = 0;
   vo.windowFrames = 3;
-  auto r = planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, measured, never, vo);
+  auto r =
+      planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, measured, never, vo);
   ASSERT_TRUE(r) << r.error().message;
   ASSERT_EQ(r->rounds.size(), 1u);
   EXPECT_EQ(r->rounds[0].framesMeasured, 0);
@@ -745,38 +747,47 @@ TEST(KeyframePlannerVerified, BadMeasurementsAreErrors) {
   const double target = path.median(SegmentErrorPath::fixed(10));
   {  // a measurer that returns too few frames
     MeasuredSegments m = path.calibration();
-    auto r = planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, m,
-                          [](const std::vector<std::pair<int, int>>& segs, MeasuredSegments& out) {
-                            for (const auto& s : segs) out[s] = {30.0};
-                            return Status{};
-                          }, vo);
+    auto r = planVerified(
+        SegmentErrorPath::kFrames, target, search, path.predicted, m,
+        [](const std::vector<std::pair<int, int>>& segs, MeasuredSegments& out) {
+          for (const auto& s : segs) out[s] = {30.0};
+          return Status{};
+        },
+        vo);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("expected"), std::string::npos) << r.error().message;
   }
   {  // one that forgets a segment
     MeasuredSegments m = path.calibration();
-    auto r = planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, m,
-                          [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) { return Status{}; }, vo);
+    auto r = planVerified(
+        SegmentErrorPath::kFrames, target, search, path.predicted, m,
+        [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) { return Status{}; }, vo);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("was not"), std::string::npos) << r.error().message;
   }
   {  // one that fails: its error comes back
     MeasuredSegments m = path.calibration();
-    auto r = planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, m,
-                          [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) -> Status {
-                            return makeError("walk failed: GL context lost");
-                          }, vo);
+    auto r = planVerified(
+        SegmentErrorPath::kFrames, target, search, path.predicted, m,
+        [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) -> Status {
+          return makeError("walk failed: GL context lost");
+        },
+        vo);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("GL context lost"), std::string::npos);
   }
   {  // a known segment outside the path, a negative round count
     MeasuredSegments m{{{100, 130}, std::vector<double>(29, 30.0)}};
-    const SegmentMeasurer none = [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) { return Status{}; };
-    EXPECT_FALSE(planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, m, none, vo));
+    const SegmentMeasurer none = [](const std::vector<std::pair<int, int>>&, MeasuredSegments&) {
+      return Status{};
+    };
+    EXPECT_FALSE(
+        planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, m, none, vo));
     MeasuredSegments ok;
     VerifyOptions bad = vo;
     bad.maxRounds = -1;
-    EXPECT_FALSE(planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, ok, none, bad));
+    EXPECT_FALSE(
+        planVerified(SegmentErrorPath::kFrames, target, search, path.predicted, ok, none, bad));
   }
 }
 
