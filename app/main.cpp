@@ -663,16 +663,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   int walkVerifyRounds = 0;
-  walk->add_option(
-          "--verify-rounds", walkVerifyRounds,
-          "Adaptive schedule, --plan-by walk-median, with a calibration: measure what the "
-          "plan picks. Each round walks the planned segments not measured yet (at this "
-          "resolution, with reference frames, no output), counts their frames exactly, "
-          "corrects the predictions near them (--calibration-window) and plans again, "
-          "aiming one keyframe below the best schedule whose median measured frames alone "
-          "guarantee; it stops when the plan is all measured, needs no fewer keyframes, or "
-          "the rounds run out. The walk runs that guaranteed schedule (its median is at "
-          "least the target); verify.png shows the rounds. Rounds, 0 = off")
+  walk->add_option("--verify-rounds", walkVerifyRounds,
+                   "Adaptive schedule, --plan-by walk-median, with a calibration: measure what the "
+                   "plan picks. Each round walks the planned segments not measured yet (at this "
+                   "resolution, with reference frames, no output), counts their frames exactly, "
+                   "corrects the predictions near them (--calibration-window) and plans again, "
+                   "aiming one keyframe below the best schedule whose median measured frames "
+                   "alone guarantee; it stops when the plan is all measured, needs no fewer "
+                   "keyframes, or the rounds run out. The walk runs that guaranteed schedule (its median is at "
+                   "least the target); verify.png shows the rounds. Rounds, 0 = off")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   double walkVerifyOptimism = 1.0;
@@ -1669,18 +1668,14 @@ int main(int argc, char** argv) {
       return fail("--calibration-window: expected --calibrate-spacing or --target-psnr fixed:G (the "
                   "window smooths the calibration's residuals), got neither");
     if (walk->count("--verify-optimism") > 0 && walkVerifyRounds == 0)
-      return fail(
-          "--verify-optimism: expected --verify-rounds 1 or more (it shapes the verified "
-          "plan's search), got --verify-rounds 0");
+      return fail("--verify-optimism: expected --verify-rounds 1 or more (it shapes the verified "
+                  "plan's search), got --verify-rounds 0");
     if (walkVerifyRounds > 0 && calSpacings.empty())
-      return fail(
-          "--verify-rounds: expected --calibrate-spacing or --target-psnr fixed:G (the "
-          "verified plan starts from the calibration's measured segments), got neither");
+      return fail("--verify-rounds: expected --calibrate-spacing or --target-psnr fixed:G (the "
+                  "verified plan starts from the calibration's measured segments), got neither");
     if (walkVerifyRounds > 0 && walkPlan.criterion != keyframe::PlanCriterion::WalkMedian)
-      return fail(
-          "--verify-rounds: expected --plan-by walk-median (it counts measured frames "
-          "against the walk's median), got --plan-by " +
-          walkPlanBy);
+      return fail("--verify-rounds: expected --plan-by walk-median (it counts measured frames "
+                  "against the walk's median), got --plan-by " + walkPlanBy);
     std::string uncertaintyModel = uncertaintyDb > 0 ? "normal" : "none";
     keyframe::MeasuredSegments measured;  // the calibration walks' segments
     keyframe::RenderOptions ropt;
@@ -1817,17 +1812,15 @@ int main(int argc, char** argv) {
       if (targetSpacing > 0)
         referenceKeyframes = static_cast<int>(
             keyframe::KeyframeSchedule{frames, targetSpacing, {}}.keyframes().size());
-      if (auto st =
-              bench::writeVerifyPlot(walkOut, *v, referenceKeyframes,
-                                     "fixed every " + std::to_string(targetSpacing) + " frames");
+      if (auto st = bench::writeVerifyPlot(walkOut, *v, referenceKeyframes,
+                                           "fixed every " + std::to_string(targetSpacing) + " frames");
           !st)
         return fail(st.error().message);
       json rounds = json::array();
       int framesMeasured = 0;
       for (const auto& r : v->rounds) {
         framesMeasured += r.framesMeasured;
-        rounds.push_back({{"keyframes", r.keyframes},
-                          {"unmeasured_segments", r.unmeasured},
+        rounds.push_back({{"keyframes", r.keyframes}, {"unmeasured_segments", r.unmeasured},
                           {"frames_measured", r.framesMeasured},
                           {"guaranteed_keyframes", r.guaranteedKeyframes},
                           {"held_out_residual_rms_db", r.heldOutRmsDb}});
@@ -1848,32 +1841,27 @@ int main(int argc, char** argv) {
                    "measured in %.0f ms; %s\n",
                    v->keyframes.size(), plan->keyframes.size(), v->rounds.size() - 1,
                    framesMeasured, vsw.ms(),
-                   v->guaranteed
-                       ? "its median guaranteed by measured frames"
-                       : "no measured schedule reaches the target: the last plan, not guaranteed");
+                   v->guaranteed ? "its median guaranteed by measured frames"
+                                 : "no guaranteed schedule: the last plan, its median predicted");
     }
     auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, wo.keyframeFrames,
                                             walkPlan.frameOffsetDb);
     if (!predicted) return fail(predicted.error().message);
     plannedFrames = std::move(*predicted);
     plannedTarget = walkPlan.targetPsnrDb;
-    plannerJson = {{"predictor", walkPredictor},
-                   {"criterion", walkPlanBy},
+    plannerJson = {{"predictor", walkPredictor}, {"criterion", walkPlanBy},
                    {"target_psnr", walkPlan.targetPsnrDb},
                    {"target_source", targetSource},
                    {"uncertainty", uncertaintyModel},
                    {"uncertainty_db", uncertaintyDb},
                    {"calibration", calibrationJ},
-                   {"min_gap", walkPlan.minGap},
-                   {"max_gap", walkPlan.maxGap},
+                   {"min_gap", walkPlan.minGap}, {"max_gap", walkPlan.maxGap},
                    {"probe_size", walkPlan.probeSize},
                    {"candidate_stride", walkPlan.candidateStride},
                    {"frames_per_segment", walkPlan.framesPerSegment},
                    {"fit", bench::fitJson(plan->fit)},
-                   {"plan_ms", plan->planMs},
-                   {"probe_render_ms", plan->probeRenderMs},
-                   {"probes", plan->probes},
-                   {"evaluations", plan->evaluations},
+                   {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
+                   {"probes", plan->probes}, {"evaluations", plan->evaluations},
                    {"verify", verifyJ}};
     std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",
                  plan->keyframes.size(), frames, plan->planMs, plan->probes, plan->probeRenderMs);
