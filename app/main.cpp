@@ -670,8 +670,9 @@ int main(int argc, char** argv) {
                    "corrects the predictions near them (--calibration-window) and plans again, "
                    "aiming one keyframe below the best schedule whose median measured frames "
                    "alone guarantee; it stops when the plan is all measured, needs no fewer "
-                   "keyframes, or the rounds run out. The walk runs that guaranteed schedule (its median is at "
-                   "least the target); verify.png shows the rounds. Rounds, 0 = off")
+                   "keyframes, or the rounds run out. The walk runs that guaranteed schedule "
+                   "(its median is at least the target); verify.png shows the rounds. Rounds, "
+                   "0 = off")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   double walkVerifyOptimism = 1.0;
@@ -1812,9 +1813,8 @@ int main(int argc, char** argv) {
       if (targetSpacing > 0)
         referenceKeyframes = static_cast<int>(
             keyframe::KeyframeSchedule{frames, targetSpacing, {}}.keyframes().size());
-      if (auto st = bench::writeVerifyPlot(walkOut, *v, referenceKeyframes,
-                                           "fixed every " + std::to_string(targetSpacing) + " frames");
-          !st)
+      const std::string referenceLabel = "fixed every " + std::to_string(targetSpacing) + " frames";
+      if (auto st = bench::writeVerifyPlot(walkOut, *v, referenceKeyframes, referenceLabel); !st)
         return fail(st.error().message);
       json rounds = json::array();
       int framesMeasured = 0;
