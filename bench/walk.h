@@ -6,10 +6,11 @@
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
 #include <cstddef>
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 #include "gapfill/compose.h"
