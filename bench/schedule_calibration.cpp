@@ -71,8 +71,8 @@ Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel
   keyframe::MeasuredSegments got;
   addMeasured(res->report["frames"], got);
   for (const auto& s : segments) {
+    if (s.second - s.first < 2) continue;  // no in-between frame
     const auto it = got.find(s);
-    if (s.second - s.first < 2) continue;
     if (it == got.end())
       return makeError("measuring segments: the walk did not reach segment (" +
                        std::to_string(s.first) + ", " + std::to_string(s.second) + ")");

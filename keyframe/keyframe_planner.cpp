@@ -149,6 +149,18 @@ std::vector<int> fewestKeyframesForMedian(int frames, int minGap, int maxGap,
   return {};
 }
 
+namespace {
+
+// The densest schedule allowed: keyframes every minGap frames and the last.
+std::vector<int> densestSchedule(int frames, int minGap) {
+  std::vector<int> keys;
+  for (int k = 0; k < frames - 1; k += minGap) keys.push_back(k);
+  keys.push_back(frames - 1);
+  return keys;
+}
+
+}  // namespace
+
 std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch& search,
                                const FramePredictor& predict, long* evaluations) {
   HW_CHECK_GE(frames, 1);
@@ -161,10 +173,7 @@ std::vector<int> planKeyframes(int frames, double targetPsnrDb, const PlanSearch
                                                      search.maxGap, predict, evaluations, nullptr,
                                                      &search.error);
     if (!keys.empty()) return keys;
-    // Unreachable: the densest schedule allowed (every minGap frames).
-    for (int k = 0; k < frames - 1; k += search.minGap) keys.push_back(k);
-    keys.push_back(frames - 1);
-    return keys;
+    return densestSchedule(frames, search.minGap);  // unreachable
   }
   std::vector<int> keys{0};
   long evals = 0;
@@ -1219,9 +1228,7 @@ Result<VerifiedPlan> planVerified(int frames, double targetPsnrDb, const PlanSea
           return n;
         },
         nullptr, aim);
-    if (plan.empty())  // unreachable: the densest schedule allowed, measured next
-      for (int k = 0; k < frames; k += search.minGap) plan.push_back(std::min(k, frames - 1));
-    if (plan.back() != frames - 1) plan.push_back(frames - 1);
+    if (plan.empty()) plan = densestSchedule(frames, search.minGap);  // unreachable: measured next
     std::vector<std::pair<int, int>> fresh;
     for (std::size_t i = 1; i < plan.size(); ++i)
       if (plan[i] - plan[i - 1] >= 2 && !measured.count({plan[i - 1], plan[i]}))

@@ -41,8 +41,8 @@ def fixed(n, g):
     ks = list(range(0, n, g))
     return ks + [n - 1] if ks[-1] != n - 1 else ks
 
-def fewest_for_median(n, max_gap, count):
-    """Fewest keyframes with more than half the in-between frames good; count(k0, k1) -> (good, frames)."""
+def fewest_for_median(n, max_gap, count, at_least=0):
+    """Fewest keyframes (>= at_least) with more than half the in-between frames good; count(k0, k1) -> (good, frames)."""
     layers = [{0: (0.0, 0, None)}]
     for c in range(1, n):
         L = {}
@@ -53,7 +53,7 @@ def fewest_for_median(n, max_gap, count):
                 if k1 not in L or v[0] > L[k1][0] or (v[0] == L[k1][0] and v[1] < L[k1][1]):
                     L[k1] = v
         layers.append(L)
-        if n - 1 in L and L[n - 1][1] > 0 and 2 * L[n - 1][0] > L[n - 1][1]:
+        if c + 1 >= at_least and n - 1 in L and L[n - 1][1] > 0 and 2 * L[n - 1][0] > L[n - 1][1]:
             ks, cur = [n - 1], n - 1
             for cc in range(c, 0, -1):
                 cur = layers[cc][cur][2]

@@ -22,27 +22,7 @@ Needs numpy (python3-numpy).
 import math, os, sys
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'calibration_window'))
-from table_study import load, regressors, fixed
-
-def fewest(n, max_gap, count, at_least=0):
-    """Fewest keyframes (>= at_least) with more than half the in-between frames good; count(k0, k1) -> (good, frames)."""
-    layers = [{0: (0.0, 0, None)}]
-    for c in range(1, n):
-        L = {}
-        for last, (g, ib, _) in layers[-1].items():
-            for k1 in range(last + 1, min(n - 1, last + max_gap) + 1):
-                gg, cc = count(last, k1)
-                v = (g + gg, ib + cc, last)
-                if k1 not in L or v[0] > L[k1][0] or (v[0] == L[k1][0] and v[1] < L[k1][1]):
-                    L[k1] = v
-        layers.append(L)
-        if c + 1 >= at_least and n - 1 in L and L[n - 1][1] > 0 and 2 * L[n - 1][0] > L[n - 1][1]:
-            ks, cur = [n - 1], n - 1
-            for cc in range(c, 0, -1):
-                cur = layers[cc][cur][2]
-                ks.append(cur)
-            return ks[::-1]
-    return None
+from table_study import load, regressors, fixed, fewest_for_median as fewest
 
 def run(D, W, optimism, step, rounds=40):
     keys = list(D); n = max(k[1] for k in keys) + 1
