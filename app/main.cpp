@@ -12,17 +12,19 @@
 #include <string>
 
 #include "app/viewer.h"
-#include "bench/bake.h"
+#include "session/bake.h"
 #include "bench/bench_suite.h"
-#include "bench/export.h"
-#include "bench/json_util.h"
+#include "session/export.h"
+#include "core/json_util.h"
 #include "bench/slurm.h"
-#include "bench/schedule_calibration.h"
+#include "session/schedule_calibration.h"
 #include "bench/schedule_oracle.h"
 #include "bench/schedule_study.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
-#include "bench/walk.h"
+#include "session/walk.h"
+#include "report/schedule_plots.h"
+#include "report/walk_plots.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
@@ -430,15 +432,15 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
   if (out.empty()) return fail("bake: --out DIR is required (the keyframe database directory)");
   auto in = loadInputs(c);
   if (!in) return fail(in.error().message);
-  bench::BakeOptions bo;
+  session::BakeOptions bo;
   bo.lod = lod;
   bo.depthMode = depthModeOf(c.depth);
   bo.maxFrames = c.frames;
   bo.outDir = out;
   bo.progress = !quiet && dist.chunk < 0;
-  const int frames = bench::bakeFrames(in->path, c.frames);
-  const std::vector<int> keys = bench::bakeKeyframeList(in->path, frames);
-  const auto prov = bench::bakeProvenance(c.scene, in->scene.triangleCount(), in->path, frames, lod, bo.depthMode);
+  const int frames = session::bakeFrames(in->path, c.frames);
+  const std::vector<int> keys = session::bakeKeyframeList(in->path, frames);
+  const auto prov = session::bakeProvenance(c.scene, in->scene.triangleCount(), in->path, frames, lod, bo.depthMode);
   const int chunks = static_cast<int>((keys.size() + perTask - 1) / perTask);
   const std::string work = out + "/.chunks";
   auto range = [&](int i) {
@@ -452,7 +454,7 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
     if (dist.chunk >= chunks)
       return fail("--chunk: " + std::to_string(dist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
     if (auto st = bench::failChunkHook(dist.chunk); !st) return fail(st.error().message);
-    auto e = bench::bakeKeyframes(in->scene, in->path, range(dist.chunk), bo);
+    auto e = session::bakeKeyframes(in->scene, in->path, range(dist.chunk), bo);
     if (!e) return fail(e.error().message);
     json ej = json::array();
     for (const auto& x : *e) ej.push_back(entryJson(x));
@@ -487,11 +489,11 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
         entries.push_back(x);
       }
   } else {
-    auto e = bench::bakeKeyframes(in->scene, in->path, keys, bo);
+    auto e = session::bakeKeyframes(in->scene, in->path, keys, bo);
     if (!e) return fail(e.error().message);
     entries = std::move(*e);
   }
-  if (auto st = bench::writeBakeIndex(out, prov, entries); !st) return fail(st.error().message);
+  if (auto st = session::writeBakeIndex(out, prov, entries); !st) return fail(st.error().message);
   if (bench::distributed(dist.d)) bench::removeChunkDir(work);
   std::uint64_t bytes = 0;
   for (const auto& e : entries) bytes += e.bytes;
@@ -1237,7 +1239,7 @@ int main(int argc, char** argv) {
       // Scene, path and size must match; the LOD options, depth mode and frame
       // count are the database's own (they only decide what it holds).
       if (auto st = db->checkMatches(
-              bench::bakeProvenance(viewC.scene, s->triangleCount(), played, played.frames, {},
+              session::bakeProvenance(viewC.scene, s->triangleCount(), played, played.frames, {},
                                     kDefaultDepthMode),
               {"scene", "triangles", "path_hash", "resolution"});
           !st)
@@ -1276,12 +1278,12 @@ int main(int argc, char** argv) {
   if (exportCmd->parsed()) {
     auto in = loadInputs(exportC);
     if (!in) return fail(in.error().message);
-    bench::ExportOptions eo;
+    session::ExportOptions eo;
     eo.inBetween = !exportNoInBetween;
     eo.maxFrames = exportC.frames;
     eo.progress = !exportQuiet;
     eo.depthMode = depthModeOf(exportC.depth);
-    if (auto st = bench::exportKeyframes(in->scene, in->path, exportOut, eo); !st)
+    if (auto st = session::exportKeyframes(in->scene, in->path, exportOut, eo); !st)
       return fail(st.error().message);
     std::printf("exported keyframes of %s to %s (cameras.json lists them)\n", exportC.scene.c_str(),
                 exportOut.c_str());
@@ -1551,7 +1553,7 @@ int main(int argc, char** argv) {
   }
 
   // walk
-  bench::WalkOptions wo;
+  session::WalkOptions wo;
   if (!parseTau(tauS, &wo.lod.tau))
     return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + tauS + "'");
   wo.lod.tauParallaxPx = tauPx;
@@ -1559,13 +1561,13 @@ int main(int argc, char** argv) {
   keyframe::parsePlanarity(planarity.c_str(), &wo.lod.planarity);
   wo.lod.mergeStrips = mergeStrips;
   if (std::string err; !parseTauGradient(tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
-  gapfill::parseComposeMode(compose.c_str(), &wo.compose.mode);
+  gapfill::parseComposeMode(compose.c_str(), &wo.inBetween.compose.mode);
   wo.warp.texcoords = texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
   wo.warp.skyBackdrop = !noSky;
-  wo.fusedLayers = layers == "fused";
-  wo.skipBackground = !noSkipBg;
-  wo.skipPrevious = !noSkipPrev;
-  wo.nearDistance = nearDistance;
+  wo.inBetween.fusedLayers = layers == "fused";
+  wo.inBetween.skipBackground = !noSkipBg;
+  wo.inBetween.skipPrevious = !noSkipPrev;
+  wo.inBetween.nearDistance = nearDistance;
   wo.warp.subdivision = subdivide == "uniform"    ? warp::Subdivision::Uniform
                         : subdivide == "adaptive" ? warp::Subdivision::Adaptive
                                                   : warp::Subdivision::None;
@@ -1589,10 +1591,10 @@ int main(int argc, char** argv) {
   wo.keyframeFlushTriangles = keyframeFlushTriangles;
   wo.keyframeWorkerNice = keyframeWorkerNice;
   wo.keyframeStepsPerFrame = keyframeStepsPerFrame;
-  wo.keyframePacing = keyframePacing == "time"     ? bench::WalkOptions::KeyframePacing::Time
-                     : keyframePacing == "slices" ? bench::WalkOptions::KeyframePacing::Slices
-                     : keyframePacing == "steps"  ? bench::WalkOptions::KeyframePacing::Steps
-                                                  : bench::WalkOptions::KeyframePacing::None;
+  wo.keyframePacing = keyframePacing == "time"     ? session::WalkOptions::KeyframePacing::Time
+                     : keyframePacing == "slices" ? session::WalkOptions::KeyframePacing::Slices
+                     : keyframePacing == "steps"  ? session::WalkOptions::KeyframePacing::Steps
+                                                  : session::WalkOptions::KeyframePacing::None;
   wo.keyframeBudgetScale = keyframeBudgetScale;
   const bool frameBudgetAuto = fb.isAuto();
   const double frameBudgetMs = fb.ms();
@@ -1610,8 +1612,8 @@ int main(int argc, char** argv) {
   if (!walkKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
     auto db = keyframe::KeyframeDb::open(walkKeyframes);
     if (!db) return fail(db.error().message);
-    const int frames = bench::bakeFrames(in->path, walkC.frames);
-    if (auto st = db->checkMatches(bench::bakeProvenance(walkC.scene, in->scene.triangleCount(), in->path,
+    const int frames = session::bakeFrames(in->path, walkC.frames);
+    if (auto st = db->checkMatches(session::bakeProvenance(walkC.scene, in->scene.triangleCount(), in->path,
                                                          frames, wo.lod, wo.depthMode));
         !st)
       return fail(st.error().message);
@@ -1621,7 +1623,7 @@ int main(int argc, char** argv) {
   if (!walkKeyframes.empty() && schedule == "adaptive")
     return fail("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
   json plannerJson;
-  std::vector<bench::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
+  std::vector<session::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
   double plannedTarget = 0;
   if (schedule != "adaptive")  // the calibration options only shape an adaptive plan
     for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty",
@@ -1696,7 +1698,7 @@ int main(int argc, char** argv) {
                     std::to_string(g));
     if (!calSpacings.empty()) {
       Stopwatch calSw;
-      auto cal = bench::runCalibrationWalks(in->scene, walkC.scene, in->path, frames, calSpacings, wo,
+      auto cal = session::runCalibrationWalks(in->scene, walkC.scene, in->path, frames, calSpacings, wo,
                                             !quiet);
       if (!cal) return fail(cal.error().message);
       measured = cal->measured;
@@ -1749,10 +1751,10 @@ int main(int argc, char** argv) {
           targetSource = "fixed:" + std::to_string(targetSpacing);
         }
       if (auto st = ensureWritableDir(walkOut); !st) return fail(st.error().message);
-      if (auto st = bench::writeCalibration(walkOut, *cal, *fit, walkPlan.predictor, walkPlan.frameOffsetDb);
+      if (auto st = report::writeCalibration(walkOut, *cal, *fit, walkPlan.predictor, walkPlan.frameOffsetDb);
           !st)
         return fail(st.error().message);
-      calibrationJ = bench::calibrationJson(*cal, *fit);
+      calibrationJ = session::calibrationJson(*cal, *fit);
       calibrationJ["window"] = windowJ;
       calibrationJ["ms"] = calSw.ms();
       std::fprintf(stderr, "calibrated %s on %d in-between frames: residual sd %.2f dB, Spearman %.3f",
@@ -1800,7 +1802,7 @@ int main(int argc, char** argv) {
           std::fprintf(stderr,
                        "verify round %d/%d: walking %zu planned segments (%d in-between frames)\n",
                        round, walkVerifyRounds, segs.size(), n);
-        return bench::measureSegments(in->scene, walkC.scene, in->path, frames, segs, wo, out);
+        return session::measureSegments(in->scene, walkC.scene, in->path, frames, segs, wo, out);
       };
       const std::size_t before = measured.size();
       auto v = keyframe::planVerified(frames, walkPlan.targetPsnrDb, search, raw, measured, measure,
@@ -1814,7 +1816,7 @@ int main(int argc, char** argv) {
         referenceKeyframes = static_cast<int>(
             keyframe::KeyframeSchedule{frames, targetSpacing, {}}.keyframes().size());
       const std::string referenceLabel = "fixed every " + std::to_string(targetSpacing) + " frames";
-      if (auto st = bench::writeVerifyPlot(walkOut, *v, referenceKeyframes, referenceLabel); !st)
+      if (auto st = report::writeVerifyPlot(walkOut, *v, referenceKeyframes, referenceLabel); !st)
         return fail(st.error().message);
       json rounds = json::array();
       int framesMeasured = 0;
@@ -1844,7 +1846,7 @@ int main(int argc, char** argv) {
                    v->guaranteed ? "its median guaranteed by measured frames"
                                  : "no guaranteed schedule: the last plan, its median predicted");
     }
-    auto predicted = bench::predictSchedule(probe, walkPlan.predictor, plan->fit, wo.keyframeFrames,
+    auto predicted = session::predictSchedule(probe, walkPlan.predictor, plan->fit, wo.keyframeFrames,
                                             walkPlan.frameOffsetDb);
     if (!predicted) return fail(predicted.error().message);
     plannedFrames = std::move(*predicted);
@@ -1859,15 +1861,17 @@ int main(int argc, char** argv) {
                    {"probe_size", walkPlan.probeSize},
                    {"candidate_stride", walkPlan.candidateStride},
                    {"frames_per_segment", walkPlan.framesPerSegment},
-                   {"fit", bench::fitJson(plan->fit)},
+                   {"fit", session::fitJson(plan->fit)},
                    {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
                    {"probes", plan->probes}, {"evaluations", plan->evaluations},
                    {"verify", verifyJ}};
     std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",
                  plan->keyframes.size(), frames, plan->planMs, plan->probes, plan->probeRenderMs);
   }
-  auto res = bench::runWalk(in->scene, walkC.scene, in->path, wo);
+  auto res = session::runWalk(in->scene, walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
+  if (auto st = report::writeFrameTimes(walkOut + "/frame_times.png", *res, wo, walkC.scene); !st)
+    return fail(st.error().message);
   if (!plannerJson.is_null()) {
     // The planner's settings and cost go into the report's summary.
     auto text = readFile(walkOut + "/report.json");
@@ -1875,7 +1879,7 @@ int main(int argc, char** argv) {
     json report = json::parse(*text, nullptr, false);
     if (report.is_discarded()) return fail("cannot parse " + walkOut + "/report.json");
     report["summary"]["keyframe_schedule"] = "adaptive";
-    auto predMedian = bench::writePlannedFrames(walkOut, plannedFrames, report["frames"], plannedTarget,
+    auto predMedian = report::writePlannedFrames(walkOut, plannedFrames, report["frames"], plannedTarget,
                                                 report["summary"]["keyframe_frames"].get<std::vector<int>>());
     if (!predMedian) return fail(predMedian.error().message);
     plannerJson["predicted_psnr_median"] = std::isfinite(*predMedian) ? json(*predMedian) : json(nullptr);

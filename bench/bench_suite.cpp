@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "bench/html_report.h"
-#include "bench/json_util.h"
-#include "bench/plot.h"
+#include "report/html_report.h"
+#include "core/json_util.h"
+#include "report/plot.h"
 #include "bench/skip_study.h"
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/machine.h"
 #include "core/timer.h"
@@ -16,6 +16,11 @@
 #include "scenes/procedural.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+using session::WalkOptions;
+using session::runWalk;
+
 namespace {
 
 using nlohmann::json;

@@ -8,8 +8,9 @@
 #include <optional>
 #include <utility>
 
-#include "bench/json_util.h"
-#include "bench/plot.h"
+#include "core/json_util.h"
+#include "session/schedule_calibration.h"
+#include "report/plot.h"
 #include "core/check.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -17,6 +18,12 @@
 #include "keyframe/geometry_renderer.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+using session::WalkOptions;
+using session::runWalk;
+using session::fitJson;
+
 
 using nlohmann::json;
 

@@ -16,13 +16,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/result.h"
 #include "keyframe/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
 namespace hw::bench {
+
+using session::WalkOptions;
+
 
 // PSNR (dB) of in-between frame f warped from keyframes k0 < f < k1,
 // 0 <= k0, k1 < frames, k1 − k0 <= maxGap. Unset entries are NaN.

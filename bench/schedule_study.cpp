@@ -6,15 +6,22 @@
 #include <iterator>
 #include <map>
 
-#include "bench/html_report.h"
-#include "bench/json_util.h"
-#include "bench/plot.h"
+#include "report/html_report.h"
+#include "core/json_util.h"
+#include "session/schedule_calibration.h"
+#include "report/plot.h"
 #include "core/file_io.h"
 #include "core/machine.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+using session::WalkOptions;
+using session::runWalk;
+using session::fitJson;
+
 namespace {
 
 using keyframe::Predictor;

@@ -10,13 +10,16 @@
 #include <string>
 #include <vector>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/result.h"
 #include "keyframe/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
 namespace hw::bench {
+
+using session::WalkOptions;
+
 
 struct ScheduleStudyOptions {
   std::string outDir = "out/schedule";

@@ -4,15 +4,20 @@
 #include <cstdio>
 #include <functional>
 
-#include "bench/html_report.h"
-#include "bench/json_util.h"
-#include "bench/walk.h"
+#include "report/html_report.h"
+#include "core/json_util.h"
+#include "session/walk.h"
 #include "core/timer.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
 #include "warp/warper.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+using session::WalkOptions;
+using session::runWalk;
+
 namespace {
 
 using nlohmann::json;
@@ -46,15 +51,15 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
   const double nearD = opt.nearDistance;
   const std::vector<Skip> skips = {
       {"fused layers", "both layers in one target, background only where the foreground left holes",
-       true, [](WalkOptions& w) { w.fusedLayers = false; }, ""},
+       true, [](WalkOptions& w) { w.inBetween.fusedLayers = false; }, ""},
       {"background skip", "no background layer when the coverage test finds no empty pixel", true,
-       [](WalkOptions& w) { w.skipBackground = false; }, "background_layer_skipped_frames"},
+       [](WalkOptions& w) { w.inBetween.skipBackground = false; }, "background_layer_skipped_frames"},
       {"previous-frame skip", "no previous-frame pass when there are no holes", true,
-       [](WalkOptions& w) { w.skipPrevious = false; }, "previous_frame_pass_skipped_frames"},
+       [](WalkOptions& w) { w.inBetween.skipPrevious = false; }, "previous_frame_pass_skipped_frames"},
       {"sky at infinity", "empty keyframe pixels drawn as rectangles at infinity, not left as holes",
        true, [](WalkOptions& w) { w.warp.skyBackdrop = false; }, ""},
       {"near objects direct", "meshes within the near distance of a keyframe eye drawn as geometry",
-       false, [nearD](WalkOptions& w) { w.nearDistance = nearD; }, ""},
+       false, [nearD](WalkOptions& w) { w.inBetween.nearDistance = nearD; }, ""},
   };
   json rows = json::array(), unavailable = json::array();
   for (const SkipScene& sc : opt.scenes) {

@@ -9,9 +9,9 @@
 #include <optional>
 #include <sstream>
 
-#include "bench/html_report.h"
-#include "bench/json_util.h"
-#include "bench/plot.h"
+#include "report/html_report.h"
+#include "core/json_util.h"
+#include "report/plot.h"
 #include "core/file_io.h"
 #include "core/machine.h"
 #include "core/metrics.h"
@@ -23,6 +23,9 @@
 #include "warp/warper.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+
 namespace {
 
 using nlohmann::json;

@@ -7,10 +7,10 @@
 #include <optional>
 #include <set>
 
-#include "bench/html_report.h"
-#include "bench/json_util.h"
-#include "bench/plot.h"
-#include "bench/walk.h"
+#include "report/html_report.h"
+#include "core/json_util.h"
+#include "report/plot.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/machine.h"
 #include "core/timer.h"
@@ -19,6 +19,11 @@
 #include "keyframe/overlay.h"
 
 namespace hw::bench {
+
+using namespace report;  // plots, tables and HTML of the studies
+using session::WalkOptions;
+using session::runWalk;
+
 namespace {
 
 using nlohmann::json;

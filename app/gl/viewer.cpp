@@ -24,7 +24,6 @@
 #include <thread>
 #include <vector>
 
-#include "bench/frame_budget.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/gl/gl_api.h"
@@ -38,6 +37,8 @@
 #include "keyframe/keyframe_db.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
+#include "session/frame_budget.h"
+#include "session/in_between.h"
 #include "warp/warper.h"
 
 namespace hw::app {
@@ -341,10 +342,9 @@ class Viewer {
   double newestSPrev_ = 0;
   long newestSerialPrev_ = -1;
   bool moving_ = false;
-  warp::Layer layerA_;  // both layers, composed on the GPU (Warper::warpPair)
+  session::InBetweenStep step_{session::InBetweenOptions{}};  // the walk's in-between step
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;
-  gapfill::ComposeOptions composeOptions_;
   KeyframeStats lastKeyframe_;
   FrameStats stats_;
   int foregroundSlot_ = -1;
@@ -1259,22 +1259,20 @@ Status Viewer::renderHybrid(FrameStats& st) {
     st.quadsA = fg.mesh.stats.quads;
     return {};
   }
-  Stopwatch sw;
-  // Both layers in one pass (Warper::warpPair: the foreground marks the
-  // stencil, the background fills only what it left, skipped when nothing
-  // is left), then the previous frame fills what both miss.
-  warp::PairStats ps;
-  HW_TRY(warper_->warpPair(*fg.source, b >= 0 ? slots_[static_cast<std::size_t>(b)].source.get() : nullptr,
-                           cam_, layerA_, true, &ps));
-  st.warpAMs = ps.foregroundMs;
-  st.warpBMs = ps.backgroundMs + ps.readbackMs;
-  st.quadsA = ps.quadsForeground;
-  st.quadsB = ps.quadsBackground;
+  // The walk's in-between step (session/in_between.h): both layers in one
+  // pass, the background only where the foreground left pixels, then the
+  // previous frame where both miss.
+  session::InBetweenStats is;
+  HW_TRY(step_.draw(*warper_, *fg.source,
+                    b >= 0 ? slots_[static_cast<std::size_t>(b)].source.get() : nullptr, cam_,
+                    havePrevious_ ? &previous_ : nullptr, nullptr, frame_, is));
+  st.warpAMs = is.warpAMs;
+  st.warpBMs = is.warpBMs + is.readbackMs;
+  st.quadsA = is.quadsForeground;
+  st.quadsB = is.quadsBackground;
   st.layers = b >= 0 ? 2 : 1;
-  st.backgroundSkipped = b >= 0 && !ps.backgroundDrawn;
-  sw.lap();
-  gapfill::compose(layerA_, nullptr, havePrevious_ ? &previous_ : nullptr, composeOptions_, frame_);
-  st.composeMs = sw.lap();
+  st.backgroundSkipped = b >= 0 && is.backgroundSkipped;
+  st.composeMs = is.composeMs;
   st.holesBefore = frame_.holeFractionBefore;
   st.holesAfter = frame_.holeFractionAfter;
   return {};
@@ -1526,7 +1524,7 @@ Status Viewer::run() {
   Stopwatch frameClock;
   double dt = 0;
   const bool autoBudget = opt_.frameBudgetAuto;
-  bench::AutoFrameBudget budget(std::max(1, opt_.frameBudgetWindow),
+  session::AutoFrameBudget budget(std::max(1, opt_.frameBudgetWindow),
                                 opt_.frameBudgetQuantile > 0 && opt_.frameBudgetQuantile <= 1
                                     ? opt_.frameBudgetQuantile
                                     : 0.9);

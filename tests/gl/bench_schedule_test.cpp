@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "bench/schedule_oracle.h"
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "gl_fixture.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_planner.h"
@@ -57,10 +57,10 @@ TEST_F(ScheduleTest, LaxTargetUsesFewerKeyframesThanFixedAndStrictMoreWithBetter
   ASSERT_TRUE(r.ok()) << r.error().message;
   auto cameraOf = [&](int i) { return path.cameraAt(i); };
 
-  bench::WalkOptions wo;
+  session::WalkOptions wo;
   wo.progress = false;
   wo.strips = 0;
-  auto fixed = bench::runWalk(scene, "indoor", path, wo);
+  auto fixed = session::runWalk(scene, "indoor", path, wo);
   ASSERT_TRUE(fixed.ok()) << fixed.error().message;
   const int fixedKeys = fixed->report["summary"]["keyframes"].get<int>();
   ASSERT_EQ(fixedKeys, 5);
@@ -78,10 +78,10 @@ TEST_F(ScheduleTest, LaxTargetUsesFewerKeyframesThanFixedAndStrictMoreWithBetter
   EXPECT_GT(lax->evaluations, 0);
 
   wo.keyframeFrames = lax->keyframes;
-  auto laxWalk = bench::runWalk(scene, "indoor", path, wo);
+  auto laxWalk = session::runWalk(scene, "indoor", path, wo);
   ASSERT_TRUE(laxWalk.ok()) << laxWalk.error().message;
   wo.keyframeFrames = strict->keyframes;
-  auto strictWalk = bench::runWalk(scene, "indoor", path, wo);
+  auto strictWalk = session::runWalk(scene, "indoor", path, wo);
   ASSERT_TRUE(strictWalk.ok()) << strictWalk.error().message;
   const auto& ls = laxWalk->report["summary"];
   const auto& ss = strictWalk->report["summary"];
@@ -118,11 +118,11 @@ TEST_F(ScheduleTest, OracleTableScoresSchedulesExactlyAsTheWalkDoes) {
     ASSERT_TRUE(row["oracle_keyframes"].is_number()) << row.dump();
     EXPECT_LE(row["oracle_keyframes"].get<int>(), row["fixed_keyframes"].get<int>());
     EXPECT_GE(row["oracle_psnr_median"].get<double>(), row["fixed_psnr_lower_median"].get<double>());
-    bench::WalkOptions wo;
+    session::WalkOptions wo;
     wo.progress = false;
     wo.strips = 0;
     wo.keyframeFrames = row["oracle_schedule"].get<std::vector<int>>();
-    auto walked = bench::runWalk(scene, "indoor", path, wo);
+    auto walked = session::runWalk(scene, "indoor", path, wo);
     ASSERT_TRUE(walked.ok()) << walked.error().message;
     EXPECT_EQ(walked->report["summary"]["psnr"]["median"].get<double>(),
               row["oracle_psnr_median"].get<double>());

@@ -1,5 +1,5 @@
-#include "bench/export.h"
-#include "bench/progress.h"
+#include "session/export.h"
+#include "core/progress.h"
 
 #include <stb_image_write.h>  // implementation compiled in core/file_io.cpp
 
@@ -16,7 +16,7 @@
 #include "keyframe/keyframe.h"
 #include "keyframe/keyframe_cache.h"
 
-namespace hw::bench {
+namespace hw::session {
 namespace {
 
 using json = nlohmann::json;
@@ -133,4 +133,4 @@ Status exportKeyframes(const scenes::Scene& scene, const scenes::CameraPath& pat
   return writeFileAtomic(dir + "cameras.json", doc.dump(2) + "\n");
 }
 
-}  // namespace hw::bench
+}  // namespace hw::session

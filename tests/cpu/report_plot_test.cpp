@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/plot.h"
+#include "report/plot.h"
 
-namespace hw::bench {
+namespace hw::report {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -244,4 +244,4 @@ TEST(Plot, DegenerateRanges) {
 }
 
 }  // namespace
-}  // namespace hw::bench
+}  // namespace hw::report

@@ -1,11 +1,11 @@
-#include "bench/frame_budget.h"
+#include "session/frame_budget.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/check.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 AutoFrameBudget::AutoFrameBudget(int window, double quantile) : quantile_(quantile) {
   HW_CHECK_GE(window, 1);
@@ -35,4 +35,4 @@ double AutoFrameBudget::budgetMs() const {
   return scratch_[k];
 }
 
-}  // namespace hw::bench
+}  // namespace hw::session

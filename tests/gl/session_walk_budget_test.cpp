@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "gl_fixture.h"
 #include "walk_fixture.h"
@@ -72,7 +72,7 @@ TEST_F(WalkBudgetTest, BudgetOffGivesTheDefaultFramesWithOrWithoutPixelAge) {
   std::filesystem::remove_all(dir);
   nlohmann::json reports[2];
   for (int v = 0; v < 2; ++v) {
-    bench::WalkOptions o;
+    session::WalkOptions o;
     o.progress = false;
     o.strips = 0;
     o.saveFrames = true;
@@ -80,7 +80,7 @@ TEST_F(WalkBudgetTest, BudgetOffGivesTheDefaultFramesWithOrWithoutPixelAge) {
     o.outDir = dir + (v ? "/age" : "/default");
     o.frameBudgetMs = 0;
     o.pixelAge = v == 1;
-    auto r = bench::runWalk(in.scene, "indoor:20k", in.path, o);
+    auto r = session::runWalk(in.scene, "indoor:20k", in.path, o);
     ASSERT_TRUE(r.ok()) << r.error().message;
     reports[v] = r->report;
   }
@@ -104,7 +104,7 @@ TEST_F(WalkBudgetTest, LargeBudgetReRendersEveryStalePixelFromGeometry) {
   const Indoor in = smallIndoor(16, 8);
   const std::string dir = ::testing::TempDir() + "walk_budget_large";
   std::filesystem::remove_all(dir);
-  bench::WalkOptions o;
+  session::WalkOptions o;
   o.progress = false;
   o.strips = 0;
   o.saveFrames = true;
@@ -112,7 +112,7 @@ TEST_F(WalkBudgetTest, LargeBudgetReRendersEveryStalePixelFromGeometry) {
   o.frameBudgetMs = 60000;  // always time left; no pacing, so no waiting
   o.paceFrames = false;
   o.staleAfter = 1;
-  auto res = bench::runWalk(in.scene, "indoor:20k", in.path, o);
+  auto res = session::runWalk(in.scene, "indoor:20k", in.path, o);
   ASSERT_TRUE(res.ok()) << res.error().message;
   const auto& report = res->report;
   auto renderer = keyframe::GeometryRenderer::create(in.scene);
@@ -159,12 +159,12 @@ TEST_F(WalkBudgetTest, LargeBudgetReRendersEveryStalePixelFromGeometry) {
 
 TEST_F(WalkBudgetTest, PacedWalkPresentsNoFasterThanTheBudget) {
   const Indoor in = smallIndoor(6, 5);
-  bench::WalkOptions o;
+  session::WalkOptions o;
   o.progress = false;
   o.strips = 0;
   o.reference = false;
   o.frameBudgetMs = 30;
-  auto res = bench::runWalk(in.scene, "indoor:20k", in.path, o);
+  auto res = session::runWalk(in.scene, "indoor:20k", in.path, o);
   ASSERT_TRUE(res.ok()) << res.error().message;
   // Sleeping until the budget has passed: every interval is at least the
   // budget (a property of the pacing, not a timing bound on the machine).

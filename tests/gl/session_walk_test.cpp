@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/metrics.h"
 #include "gapfill/compose.h"
@@ -98,11 +98,11 @@ TEST_F(HybridTest, DisocclusionHolesLieBesideTheBoxAndTheOtherKeyframeFillsThem)
 TEST_F(HybridTest, IndoorWalkQualityAndFallback) {
   const scenes::Scene scene = scenes::makeIndoorScene(100000);
   scenes::CameraPath path = scenes::defaultIndoorPath();
-  bench::WalkOptions o;
+  session::WalkOptions o;
   o.lod.tau = 2048;
   o.maxFrames = 21;
   o.progress = false;
-  auto res = bench::runWalk(scene, "indoor", path, o);
+  auto res = session::runWalk(scene, "indoor", path, o);
   ASSERT_TRUE(res.ok()) << res.error().message;
   const auto& frames = res->report["frames"];
   ASSERT_EQ(frames.size(), 21u);

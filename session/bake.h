@@ -12,7 +12,7 @@
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 struct BakeOptions {
   keyframe::LodOptions lod;  // τ, criterion, planarity, merge strips (as walk)
@@ -42,4 +42,4 @@ Result<std::vector<keyframe::KeyframeDbEntry>> bakeKeyframes(const scenes::Scene
 Status writeBakeIndex(const std::string& outDir, const keyframe::KeyframeDbProvenance& provenance,
                       const std::vector<keyframe::KeyframeDbEntry>& entries);
 
-}  // namespace hw::bench
+}  // namespace hw::session

@@ -5,9 +5,9 @@
 
 #include <filesystem>
 
-#include "bench/bake.h"
+#include "session/bake.h"
 #include "bench/sweep.h"
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "gl_fixture.h"
 #include "keyframe/keyframe_db.h"
@@ -33,39 +33,39 @@ TEST_F(BakeTest, WalkFromDatabaseGivesBitIdenticalFrames) {
   const scenes::CameraPath path = smallPath();
   const std::string dir = ::testing::TempDir() + "hw_bake_test";
   std::filesystem::remove_all(dir);
-  bench::BakeOptions bo;
+  session::BakeOptions bo;
   bo.outDir = dir + "/db";
   bo.progress = false;
-  const int frames = bench::bakeFrames(path, 0);
-  const auto keys = bench::bakeKeyframeList(path, frames);
+  const int frames = session::bakeFrames(path, 0);
+  const auto keys = session::bakeKeyframeList(path, frames);
   ASSERT_EQ(keys, (std::vector<int>{0, 4, 8, 12}));
   // Baked in two parts, as two chunks would.
-  auto a = bench::bakeKeyframes(scene, path, {0, 4}, bo);
-  auto b = bench::bakeKeyframes(scene, path, {8, 12}, bo);
+  auto a = session::bakeKeyframes(scene, path, {0, 4}, bo);
+  auto b = session::bakeKeyframes(scene, path, {8, 12}, bo);
   ASSERT_TRUE(a.ok() && b.ok());
   std::vector<keyframe::KeyframeDbEntry> entries = *b;
   entries.insert(entries.end(), a->begin(), a->end());
   const auto prov =
-      bench::bakeProvenance("indoor", scene.triangleCount(), path, frames, bo.lod, bo.depthMode);
-  ASSERT_TRUE(bench::writeBakeIndex(bo.outDir, prov, entries).ok());
+      session::bakeProvenance("indoor", scene.triangleCount(), path, frames, bo.lod, bo.depthMode);
+  ASSERT_TRUE(session::writeBakeIndex(bo.outDir, prov, entries).ok());
 
   auto db = keyframe::KeyframeDb::open(bo.outDir);
   ASSERT_TRUE(db.ok()) << db.error().message;
   ASSERT_TRUE(db->checkMatches(prov).ok());
   EXPECT_EQ(db->keyframeFrames(), keys);
 
-  bench::WalkOptions live;
+  session::WalkOptions live;
   live.progress = false;
   live.strips = 0;
   live.saveFrames = true;
   live.outDir = dir + "/live";
-  bench::WalkOptions baked = live;
+  session::WalkOptions baked = live;
   baked.outDir = dir + "/baked";
   baked.keyframeFrames = db->keyframeFrames();
   baked.keyframeSource =
       keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
-  auto r1 = bench::runWalk(scene, "indoor", path, live);
-  auto r2 = bench::runWalk(scene, "indoor", path, baked);
+  auto r1 = session::runWalk(scene, "indoor", path, live);
+  auto r2 = session::runWalk(scene, "indoor", path, baked);
   ASSERT_TRUE(r1.ok() && r2.ok());
   for (int i = 0; i < frames; ++i) {
     char name[32];

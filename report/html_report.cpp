@@ -1,11 +1,11 @@
-#include "bench/html_report.h"
+#include "report/html_report.h"
 
 #include <cmath>
 #include <cstdio>
 
 #include "core/file_io.h"
 
-namespace hw::bench {
+namespace hw::report {
 
 std::string htmlEscape(const std::string& s) {
   std::string o;
@@ -80,4 +80,4 @@ std::string HtmlReport::html() const {
 
 Status HtmlReport::write(const std::string& path) const { return writeFileAtomic(path, html()); }
 
-}  // namespace hw::bench
+}  // namespace hw::report

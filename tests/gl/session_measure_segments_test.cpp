@@ -1,13 +1,13 @@
 // The verified planner's measurements on OSMesa: a walk of a few segments
-// (WalkOptions::onlySegments, bench::measureSegments) gives each of their
+// (WalkOptions::onlySegments, session::measureSegments) gives each of their
 // frames the PSNR the whole walk gives it, bit for bit, and walks nothing
 // else; segments that are not consecutive keyframes are an error.
 #include <gtest/gtest.h>
 
 #include <map>
 
-#include "bench/schedule_calibration.h"
-#include "bench/walk.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 #include "gl_fixture.h"
 #include "keyframe/keyframe_planner.h"
 #include "scenes/procedural.h"
@@ -23,8 +23,8 @@ class MeasureSegmentsTest : public test::GlTest {
     p.frames = 40;
     return p;
   }
-  static bench::WalkOptions options() {
-    bench::WalkOptions wo;
+  static session::WalkOptions options() {
+    session::WalkOptions wo;
     wo.progress = false;
     wo.strips = 0;
     wo.keyframeFrames = {0, 7, 15, 26, 39};
@@ -35,7 +35,7 @@ class MeasureSegmentsTest : public test::GlTest {
 TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   const scenes::Scene scene = scenes::makeIndoorScene(20000);
   const scenes::CameraPath path = shortPath();
-  auto whole = bench::runWalk(scene, "indoor", path, options());
+  auto whole = session::runWalk(scene, "indoor", path, options());
   ASSERT_TRUE(whole.ok()) << whole.error().message;
   std::map<int, double> psnr;  // in-between frames; identical counts 99 as the walk's stats
   for (const auto& f : whole->report["frames"])
@@ -45,9 +45,9 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   ASSERT_EQ(psnr.size(), 35u);
 
   // Only (7, 15) and (26, 39): their frames and keyframes, nothing else.
-  bench::WalkOptions wo = options();
+  session::WalkOptions wo = options();
   wo.onlySegments = {{7, 15}, {26, 39}};
-  auto part = bench::runWalk(scene, "indoor", path, wo);
+  auto part = session::runWalk(scene, "indoor", path, wo);
   ASSERT_TRUE(part.ok()) << part.error().message;
   int walked = 0;
   for (const auto& f : part->report["frames"]) {
@@ -64,7 +64,7 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   // keyframes are not needed (it puts keyframes at the segments' ends only).
   keyframe::MeasuredSegments m;
   ASSERT_TRUE(
-      bench::measureSegments(scene, "indoor", path, 40, {{7, 15}, {26, 39}, {2, 5}}, options(), m)
+      session::measureSegments(scene, "indoor", path, 40, {{7, 15}, {26, 39}, {2, 5}}, options(), m)
           .ok());
   ASSERT_EQ(m.size(), 3u);
   for (const auto& [seg, v] : m) {
@@ -83,17 +83,17 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
 TEST_F(MeasureSegmentsTest, SegmentsThatAreNotConsecutiveKeyframesAreErrors) {
   const scenes::Scene scene = scenes::makeIndoorScene(20000);
   const scenes::CameraPath path = shortPath();
-  bench::WalkOptions wo = options();
+  session::WalkOptions wo = options();
   wo.onlySegments = {{7, 26}};  // 15 lies between
-  auto r = bench::runWalk(scene, "indoor", path, wo);
+  auto r = session::runWalk(scene, "indoor", path, wo);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("consecutive keyframes"), std::string::npos)
       << r.error().message;
   wo.onlySegments = {{30, 45}};  // past the path
-  EXPECT_FALSE(bench::runWalk(scene, "indoor", path, wo).ok());
+  EXPECT_FALSE(session::runWalk(scene, "indoor", path, wo).ok());
   // Overlapping segments cannot both be walked: one's end lies in the other.
   keyframe::MeasuredSegments m;
-  auto st = bench::measureSegments(scene, "indoor", path, 40, {{7, 15}, {10, 20}}, options(), m);
+  auto st = session::measureSegments(scene, "indoor", path, 40, {{7, 15}, {10, 20}}, options(), m);
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("consecutive keyframes"), std::string::npos)
       << st.error().message;

@@ -13,39 +13,23 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
-#include "gapfill/compose.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
+#include "session/in_between.h"
 #include "warp/warper.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 struct WalkOptions {
   keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
   keyframe::MeshMethod mesh = keyframe::MeshMethod::Lod;  // or a baseline (sweep)
   int tileSize = 8;                             // pixels, MeshMethod::UniformTiles
   DepthMode depthMode = kDefaultDepthMode;     // keyframe depth buffer
-  gapfill::ComposeOptions compose;              // paper's overlay or depth merge
-  // Skips (issue #8), each switchable and measured on and off:
-  // Both layers in one render target, composed on the GPU by the overlay rule
-  // (Warper::warpPair); off = the paper's two layers read back and composed
-  // on the CPU. Depth-merge composition always uses two layers.
-  bool fusedLayers = true;
-  // No background layer when the foreground covers every pixel (coverage
-  // test: an occlusion query in the fused pass, the layer's readback count
-  // otherwise). The frame is bit-identical.
-  bool skipBackground = true;
-  // No previous-frame pass when the layers leave no holes (fused pass: the
-  // frame is the layer image itself).
-  bool skipPrevious = true;
-  // Near objects drawn directly (Zheng et al. 1999 §3): meshes whose bounds
-  // come within this distance (scene units) of a keyframe's eye are left out
-  // of that keyframe and drawn as geometry into every frame that uses it,
-  // composed by depth. 0 = off (the paper's pipeline).
-  double nearDistance = 0;
+  // Composition, layers, skips and near geometry of the in-between frames.
+  InBetweenOptions inBetween;
   warp::WarpOptions warp;                       // texcoords, sky backdrop
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path
@@ -70,7 +54,7 @@ struct WalkOptions {
   std::vector<std::pair<int, int>> onlySegments;
   // Where keyframes come from (empty = rendered and meshed on the fly).
   keyframe::KeyframeCache::Source keyframeSource;
-  // Keyframe acquisition (issue #8, stable frame rate). Bound on the bytes of
+  // Keyframe acquisition. Bound on the bytes of
   // cached keyframes (colour + depth + mesh).
   std::size_t keyframeCacheBytes = keyframe::CacheOptions{}.maxBytes;
   // Render and mesh keyframes ahead of need on a worker thread with a second
@@ -97,7 +81,7 @@ struct WalkOptions {
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;
-  // Per-frame time budget (issue #8, after Qu et al. 2000 §3.4), in ms of
+  // Per-frame time budget (after Qu et al. 2000 §3.4), in ms of
   // frame work; 0 = off (the frames are those of the walk without it). With
   // a budget, after an in-between frame is composed and time is left, the
   // region whose pixels are oldest (tiles of kRefreshTilePx ranked by the
@@ -107,7 +91,7 @@ struct WalkOptions {
   // With paceFrames the walk then sleeps until frameBudgetMs have passed since
   // the frame started, so frames are presented at a steady cadence.
   double frameBudgetMs = 0;
-  // Automatic budget (bench/frame_budget.h; frameBudgetMs is then unused):
+  // Automatic budget (session/frame_budget.h; frameBudgetMs is then unused):
   // each frame's budget is the frameBudgetQuantile of the work (without the
   // refresh) of the last frameBudgetWindow in-between frames; no budget (no
   // refresh, no pacing) until AutoFrameBudget::minSamples() are known.
@@ -123,13 +107,30 @@ struct WalkOptions {
   static constexpr int kMaxRefreshRects = 4;
 };
 
+// Each walked frame's times, for frame_times.png (report/walk_plots.h).
+struct FrameTimes {
+  std::vector<int> frame;           // frame index
+  std::vector<char> keyframe;       // 1 = the frame shows a keyframe
+  std::vector<char> builtKeyframe;  // 1 = the frame paid for building or uploading a keyframe
+  std::vector<double> workMs;       // ms.frame
+  std::vector<double> intervalMs;   // ms.interval (work + pacing wait)
+  std::vector<double> budgetMs;     // the frame's budget; 0 = none
+  std::vector<double> referenceMs;  // geometry render at the same camera; NaN without reference
+  void reserve(std::size_t n);
+  void push(int i, bool isKeyframe, bool built, double work, double interval, double budget,
+            double reference);
+};
+
 struct WalkResult {
   nlohmann::json report;  // {"frames": [...], "summary": {...}}
+  FrameTimes frameTimes;
 };
 
 // Runs the walk on an already loaded scene and path. A GL context must be
-// current. Errors (GL, output) come back as Error; nothing half-written.
+// current. With an output directory it writes report.json, the strips and
+// (saveFrames) every frame; frame_times.png is report/walk_plots.h's. Errors
+// (GL, output) come back as Error; nothing half-written.
 Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
                            const scenes::CameraPath& path, const WalkOptions& options);
 
-}  // namespace hw::bench
+}  // namespace hw::session

@@ -6,7 +6,7 @@
 
 #include "core/result.h"
 
-namespace hw::bench {
+namespace hw::report {
 
 class HtmlReport {
  public:
@@ -31,4 +31,4 @@ std::string htmlEscape(const std::string& s);
 // Fixed-point number for tables ("-" for NaN).
 std::string fmt(double v, int decimals = 2);
 
-}  // namespace hw::bench
+}  // namespace hw::report

@@ -6,7 +6,7 @@
 
 #include "core/timer.h"
 
-namespace hw::bench {
+namespace hw {
 
 class Progress {
  public:
@@ -29,4 +29,4 @@ class Progress {
   Stopwatch all_, sinceLast_;
 };
 
-}  // namespace hw::bench
+}  // namespace hw

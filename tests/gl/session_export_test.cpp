@@ -13,7 +13,7 @@
 #include <set>
 #include <string>
 
-#include "bench/export.h"
+#include "session/export.h"
 #include "core/file_io.h"
 #include "core/pfm.h"
 #include "gl_fixture.h"
@@ -107,7 +107,7 @@ TEST(ExportCameraJson, WorldFromCameraIsRowMajorWithOpenCvAxes) {
   // An asymmetric pose so that a transposed or column-major matrix shows.
   const Camera cam =
       Camera::lookAt({1.0, 2.0, 3.0}, {4.0, 1.0, -2.0}, {0, 1, 0}, 0.9, 80, 40, 0.25, 300.0);
-  const json c = bench::exportCameraJson("key_0042", cam);
+  const json c = session::exportCameraJson("key_0042", cam);
   EXPECT_EQ(c["name"], "key_0042");
   EXPECT_EQ(c["width"], 80);
   EXPECT_EQ(c["height"], 40);
@@ -132,25 +132,25 @@ TEST(ExportCameraJson, WorldFromCameraIsRowMajorWithOpenCvAxes) {
     for (double v : {0.5, 27.5, 39.5})
       for (double z : {0.3, 7.0, 250.0})
         expectNear3(applyRowMajor(m, openCvPoint(c, u, v, z)), cam.unproject(u, v, z), "unproject");
-  EXPECT_EQ(bench::exportKeyframeName(7), "key_0007");
-  EXPECT_EQ(bench::exportFrameName(123), "frame_0123");
+  EXPECT_EQ(session::exportKeyframeName(7), "key_0007");
+  EXPECT_EQ(session::exportFrameName(123), "frame_0123");
 }
 
 class ExportTest : public test::GlTest {};
 
 TEST_F(ExportTest, WritesExactlyTheContractFiles) {
   const std::string dir = freshDir("files");
-  bench::ExportOptions opt;
+  session::ExportOptions opt;
   opt.progress = false;
-  const Status st = bench::exportKeyframes(indoor(), shortPath(), dir, opt);
+  const Status st = session::exportKeyframes(indoor(), shortPath(), dir, opt);
   ASSERT_TRUE(st.ok()) << st.error().message;
 
   std::set<std::string> want = {"cameras.json"};
   for (int k : {0, 5, 10, 11}) {
-    want.insert(bench::exportKeyframeName(k) + ".png");
-    want.insert(bench::exportKeyframeName(k) + ".depth.pfm");
+    want.insert(session::exportKeyframeName(k) + ".png");
+    want.insert(session::exportKeyframeName(k) + ".depth.pfm");
   }
-  for (int i : {1, 2, 3, 4, 6, 7, 8, 9}) want.insert(bench::exportFrameName(i) + ".png");
+  for (int i : {1, 2, 3, 4, 6, 7, 8, 9}) want.insert(session::exportFrameName(i) + ".png");
   EXPECT_EQ(filesIn(dir), want);  // nothing else, no temporaries
 
   const json doc = loadCameras(dir);
@@ -168,7 +168,7 @@ TEST_F(ExportTest, WritesExactlyTheContractFiles) {
       const Camera cam = path.cameraAt(c["frame"].get<int>());
       EXPECT_EQ(c,
                 [&] {
-                  json e = bench::exportCameraJson(c["name"], cam);
+                  json e = session::exportCameraJson(c["name"], cam);
                   for (const char* extra : {"frame", "is_keyframe", "keyframes"})
                     if (c.contains(extra)) e[extra] = c[extra];
                   return e;
@@ -201,17 +201,17 @@ TEST_F(ExportTest, WritesExactlyTheContractFiles) {
 
 TEST_F(ExportTest, DepthAndColourAreTheRenderersBitForBit) {
   const std::string dir = freshDir("bits");
-  bench::ExportOptions opt;
+  session::ExportOptions opt;
   opt.progress = false;
   const scenes::CameraPath path = shortPath();
-  ASSERT_TRUE(bench::exportKeyframes(indoor(), path, dir, opt).ok());
+  ASSERT_TRUE(session::exportKeyframes(indoor(), path, dir, opt).ok());
 
   auto r = keyframe::GeometryRenderer::create(indoor());
   ASSERT_TRUE(r.ok()) << r.error().message;
   keyframe::Keyframe kf;
   for (int frame : {0, 5, 11}) {
     ASSERT_TRUE((*r)->renderKeyframe(path.cameraAt(frame), kf).ok());
-    const std::string name = bench::exportKeyframeName(frame);
+    const std::string name = session::exportKeyframeName(frame);
     auto depth = readPfm(dir + "/" + name + ".depth.pfm");
     ASSERT_TRUE(depth.ok()) << depth.error().message;
     ASSERT_EQ(depth->width(), kf.eyeZ.width());
@@ -246,11 +246,11 @@ TEST_F(ExportTest, DepthAndColourAreTheRenderersBitForBit) {
 
 TEST_F(ExportTest, ExportedPoseAndIntrinsicsReprojectOntoUnproject) {
   const std::string dir = freshDir("reproject");
-  bench::ExportOptions opt;
+  session::ExportOptions opt;
   opt.progress = false;
   opt.inBetween = false;
   const scenes::CameraPath path = shortPath();
-  ASSERT_TRUE(bench::exportKeyframes(indoor(), path, dir, opt).ok());
+  ASSERT_TRUE(session::exportKeyframes(indoor(), path, dir, opt).ok());
   const json doc = loadCameras(dir);
   ASSERT_EQ(doc["keyframes"].size(), 4u);
   for (const json& c : doc["keyframes"]) {
@@ -279,11 +279,11 @@ TEST_F(ExportTest, ExportedPoseAndIntrinsicsReprojectOntoUnproject) {
 
 TEST_F(ExportTest, WithoutInBetweenAndWithMaxFramesOnlyTheKeyframesOfThePrefix) {
   const std::string dir = freshDir("prefix");
-  bench::ExportOptions opt;
+  session::ExportOptions opt;
   opt.progress = false;
   opt.inBetween = false;
   opt.maxFrames = 7;  // keyframes 0, 5 and the prefix's last frame, 6
-  ASSERT_TRUE(bench::exportKeyframes(indoor(), shortPath(), dir, opt).ok());
+  ASSERT_TRUE(session::exportKeyframes(indoor(), shortPath(), dir, opt).ok());
   EXPECT_EQ(filesIn(dir), (std::set<std::string>{
                               "cameras.json", "key_0000.png", "key_0000.depth.pfm", "key_0005.png",
                               "key_0005.depth.pfm", "key_0006.png", "key_0006.depth.pfm"}));
@@ -298,15 +298,15 @@ TEST_F(ExportTest, UnwritableOutputIsAnErrorAndNothingIsWritten) {
   fs::create_directories(dir);
   const std::string blocker = dir + "/a-file";
   std::ofstream(blocker) << "not a directory";
-  bench::ExportOptions opt;
+  session::ExportOptions opt;
   opt.progress = false;
   for (const std::string& out : {blocker, blocker + "/sub"}) {
-    const Status st = bench::exportKeyframes(indoor(), shortPath(), out, opt);
+    const Status st = session::exportKeyframes(indoor(), shortPath(), out, opt);
     ASSERT_FALSE(st.ok()) << out;
     EXPECT_NE(st.error().message.find(blocker), std::string::npos) << st.error().message;
   }
   EXPECT_EQ(filesIn(dir), std::set<std::string>{"a-file"});
-  EXPECT_FALSE(bench::exportKeyframes(indoor(), shortPath(), "", opt).ok());
+  EXPECT_FALSE(session::exportKeyframes(indoor(), shortPath(), "", opt).ok());
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/metrics.h"
 #include "gapfill/compose.h"
@@ -24,8 +24,8 @@ class WalkLargeQuadsTest : public test::GlTest {};
 
 constexpr int kSize = 128, kFrames = 9, kEvery = 4;
 
-bench::WalkOptions options(const std::string& out) {
-  bench::WalkOptions wo;
+session::WalkOptions options(const std::string& out) {
+  session::WalkOptions wo;
   wo.lod.tau = 2048;
   wo.lod.planarity = keyframe::Planarity::RegionLocal;
   wo.lod.mergeStrips = true;
@@ -39,12 +39,12 @@ bench::WalkOptions options(const std::string& out) {
 TEST_F(WalkLargeQuadsTest, MetricIsMaskedPsnrOverTheLargeLeafPixels) {
   test::Indoor in = test::smallIndoor("indoor:20k", kSize, kFrames, kEvery);
   const std::string dir = ::testing::TempDir() + "walk_large_quads";
-  const bench::WalkOptions wo = options(dir);
-  auto fused = bench::runWalk(in.scene, "indoor:20k", in.path, wo);
+  const session::WalkOptions wo = options(dir);
+  auto fused = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(fused.ok()) << fused.error().message;
-  bench::WalkOptions so = options(dir + "_separate");
-  so.fusedLayers = false;
-  auto separate = bench::runWalk(in.scene, "indoor:20k", in.path, so);
+  session::WalkOptions so = options(dir + "_separate");
+  so.inBetween.fusedLayers = false;
+  auto separate = session::runWalk(in.scene, "indoor:20k", in.path, so);
   ASSERT_TRUE(separate.ok()) << separate.error().message;
 
   // The independent mask: each keyframe rendered and meshed as the walk does,
@@ -111,14 +111,14 @@ TEST_F(WalkLargeQuadsTest, MetricIsMaskedPsnrOverTheLargeLeafPixels) {
 
 TEST_F(WalkLargeQuadsTest, NullWithoutLargeLeavesOrWithTheDepthMerge) {
   test::Indoor in = test::smallIndoor("indoor:20k", kSize, 5, kEvery);
-  bench::WalkOptions wo = options("");
+  session::WalkOptions wo = options("");
   wo.saveFrames = false;
   wo.warp.subdivideCellPx = 256;  // every leaf fits in one cell
-  auto none = bench::runWalk(in.scene, "indoor:20k", in.path, wo);
+  auto none = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(none.ok()) << none.error().message;
   wo.warp.subdivideCellPx = 16;
-  wo.compose.mode = gapfill::ComposeMode::DepthMerge;
-  auto merged = bench::runWalk(in.scene, "indoor:20k", in.path, wo);
+  wo.inBetween.compose.mode = gapfill::ComposeMode::DepthMerge;
+  auto merged = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(merged.ok()) << merged.error().message;
   int inBetween = 0;
   for (std::size_t i = 0; i < 5; ++i) {

@@ -1,14 +1,14 @@
-#include "bench/bake.h"
+#include "session/bake.h"
 
 #include <algorithm>
 #include <filesystem>
 
-#include "bench/progress.h"
+#include "core/progress.h"
 #include "core/file_io.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 int bakeFrames(const scenes::CameraPath& path, int maxFrames) {
   return maxFrames > 0 ? std::min(maxFrames, path.frames) : path.frames;
@@ -90,4 +90,4 @@ Status writeBakeIndex(const std::string& outDir, const keyframe::KeyframeDbProve
                          keyframe::keyframeDbIndexJson(provenance, entries));
 }
 
-}  // namespace hw::bench
+}  // namespace hw::session

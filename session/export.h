@@ -12,7 +12,7 @@
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 struct ExportOptions {
   // Also export every in-between frame's camera and geometry reference image
@@ -50,4 +50,4 @@ nlohmann::json exportCameraJson(const std::string& name, const Camera& camera);
 std::string exportKeyframeName(int frame);
 std::string exportFrameName(int frame);
 
-}  // namespace hw::bench
+}  // namespace hw::session

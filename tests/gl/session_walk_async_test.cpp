@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "gl_fixture.h"
 #include "walk_fixture.h"
 #include "keyframe/geometry_renderer.h"
@@ -34,15 +34,15 @@ TEST_F(AsyncKeyframesTest, AsyncWalkGivesTheSameFramesAsTheSynchronousWalk) {
   nlohmann::json reports[3];
   const char* names[3] = {"/sync", "/async", "/slices"};
   for (int async = 0; async < 3; ++async) {
-    bench::WalkOptions o;
+    session::WalkOptions o;
     o.progress = false;
     o.strips = 0;
     o.saveFrames = true;
     o.outDir = dir + names[async];
     o.asyncKeyframes = async >= 1;
     o.keyframePrefetch = 2;
-    if (async == 2) o.keyframePacing = bench::WalkOptions::KeyframePacing::Slices;
-    auto r = bench::runWalk(in.scene, "indoor", in.path, o);
+    if (async == 2) o.keyframePacing = session::WalkOptions::KeyframePacing::Slices;
+    auto r = session::runWalk(in.scene, "indoor", in.path, o);
     ASSERT_TRUE(r.ok()) << r.error().message;
     reports[async] = r->report;
   }
@@ -171,11 +171,11 @@ TEST_F(AsyncKeyframesTest, ReleasedKeyframesLeaveTheCacheAndAWalkKeepsOnlyWhatCa
   EXPECT_EQ(cache.evictions(), 0u);
   EXPECT_GE(cache.released(), 8u);  // keyframes 0, 3, ..., 24 passed
   // A walk (default 256 MiB bound) releases them as it passes.
-  bench::WalkOptions o;
+  session::WalkOptions o;
   o.progress = false;
   o.strips = 0;
   o.reference = false;
-  auto w = bench::runWalk(in.scene, "indoor", in.path, o);
+  auto w = session::runWalk(in.scene, "indoor", in.path, o);
   ASSERT_TRUE(w.ok()) << w.error().message;
   const auto& s = w->report["summary"];
   EXPECT_GE(s["keyframe_cache_released"].get<int>(), 8);  // the walk releases passed keyframes

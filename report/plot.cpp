@@ -2,7 +2,7 @@
 // antialiased by coverage: a pixel's coverage is 1 - (distance of its centre
 // from the stroke edge), clamped to [0, 1], and a series' coverage is the max
 // over its segments and markers, so joints are not blended twice.
-#include "bench/plot.h"
+#include "report/plot.h"
 
 #include <stb_easy_font.h>
 
@@ -17,7 +17,7 @@
 #include "core/check.h"
 #include "core/file_io.h"
 
-namespace hw::bench {
+namespace hw::report {
 namespace {
 
 constexpr Rgba8 kWhite{255, 255, 255, 255};
@@ -791,4 +791,4 @@ Status writePlot(const std::string& pngPath, const std::vector<Series>& series,
   return writePng(pngPath, renderPlot(series, options));
 }
 
-}  // namespace hw::bench
+}  // namespace hw::report

@@ -12,13 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/walk.h"
+#include "session/walk.h"
 #include "core/result.h"
 #include "keyframe/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
-namespace hw::bench {
+namespace hw::session {
 
 // One calibration walk: keyframes every `spacing` frames (0 and the last
 // frame always), its in-between frames' PSNR median (as the walk report
@@ -64,13 +64,8 @@ Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel
                        const std::vector<std::pair<int, int>>& segments, const WalkOptions& base,
                        keyframe::MeasuredSegments& out);
 
-// calibration.csv (spacing,k0,k1,frame,psnr,predicted,offset: offset =
-// the path offset at the frame, 0 without --calibration-window) and
-// calibration.png (predicted vs measured, one colour per walk, the line
-// measured = predicted) into outDir, atomically.
-Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
-                        const std::vector<double>& frameOffsetDb = {});
+
+
 
 // The planned schedule against the walk that ran it: every in-between frame's
 // predicted PSNR (the planner's fit) and measured PSNR (the walk report's
@@ -86,21 +81,13 @@ Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe
                                                   const keyframe::PsnrFit& fit,
                                                   const std::vector<int>& keyframes,
                                                   const std::vector<double>& frameOffsetDb = {});
-// planned.csv (frame,k0,k1,predicted,measured) and planned.png (both along
-// the path, the target and the keyframes) into outDir; returns the median
-// predicted PSNR of the in-between frames (NaN when there are none).
-Result<double> writePlannedFrames(const std::string& outDir, const std::vector<PlannedFrame>& planned,
-                                  const nlohmann::json& reportFrames, double targetDb,
-                                  const std::vector<int>& keyframes);
 
-// verify.png into outDir: each round of a verified plan against the frames
-// measured before it, its plan's keyframes and the guaranteed schedule's;
-// referenceKeyframes (> 0) as a line, labelled referenceLabel.
-Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& plan,
-                       int referenceKeyframes, const std::string& referenceLabel);
+// A predictor fit as JSON: {"intercept", "slope", "slope2"} (null when not
+// finite), and "more" (the slopes of regressors 3..) only when the fit has them.
+nlohmann::json fitJson(const keyframe::PsnrFit& f);
 
 // The report's summary.planner.calibration block.
 nlohmann::json calibrationJson(const ScheduleCalibration& cal,
                                const keyframe::PredictorCalibration& fit);
 
-}  // namespace hw::bench
+}  // namespace hw::session

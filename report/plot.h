@@ -9,7 +9,7 @@
 #include "core/image.h"
 #include "core/result.h"
 
-namespace hw::bench {
+namespace hw::report {
 
 enum class Marker { kAuto, kCircle, kSquare, kDiamond };
 
@@ -58,4 +58,4 @@ Status writePlot(const std::string& pngPath, const std::vector<Series>& series,
 // The palette of automatic colours (tab10, Vega/matplotlib), in order.
 const std::vector<Rgba8>& plotPalette();
 
-}  // namespace hw::bench
+}  // namespace hw::report

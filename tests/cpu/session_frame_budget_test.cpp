@@ -1,13 +1,13 @@
 // AutoFrameBudget (walk --frame-budget-ms auto): nearest-rank quantile over a
 // sliding window of in-between frames' work.
-#include "bench/frame_budget.h"
+#include "session/frame_budget.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-namespace hw::bench {
+namespace hw::session {
 namespace {
 
 TEST(AutoFrameBudget, NoBudgetBeforeTheFirstSample) {
@@ -97,4 +97,4 @@ TEST(AutoFrameBudget, BudgetDoesNotReorderTheWindow) {
 }
 
 }  // namespace
-}  // namespace hw::bench
+}  // namespace hw::session

@@ -1,0 +1,878 @@
+// The walk's frame loop: keyframes acquired along the schedule, each frame
+// drawn (a keyframe shown, or the in-between step), optionally refreshed
+// within a budget and paced, measured against the geometry renderer, and
+// handed to the recorder.
+#include "session/walk.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/json_util.h"
+#include "core/machine.h"
+#include "core/memory.h"
+#include "core/metrics.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "gapfill/age.h"
+#include "keyframe/gl/async_keyframes.h"
+#include "keyframe/keyframe_cache.h"
+#include "session/frame_budget.h"
+#include "session/walk_recorder.h"
+
+namespace hw::session {
+
+using nlohmann::json;
+
+void FrameTimes::reserve(std::size_t n) {
+  frame.reserve(n);
+  keyframe.reserve(n);
+  builtKeyframe.reserve(n);
+  workMs.reserve(n);
+  intervalMs.reserve(n);
+  budgetMs.reserve(n);
+  referenceMs.reserve(n);
+}
+
+void FrameTimes::push(int i, bool isKeyframe, bool built, double work, double interval,
+                      double budget, double reference) {
+  frame.push_back(i);
+  keyframe.push_back(isKeyframe ? 1 : 0);
+  builtKeyframe.push_back(built ? 1 : 0);
+  workMs.push_back(work);
+  intervalMs.push_back(interval);
+  budgetMs.push_back(budget);
+  referenceMs.push_back(reference);
+}
+
+namespace {
+
+std::string frameName(int i) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%04d.png", i);
+  return buf;
+}
+
+const char* pacingName(WalkOptions::KeyframePacing p) {
+  switch (p) {
+    case WalkOptions::KeyframePacing::Time: return "time";
+    case WalkOptions::KeyframePacing::Slices: return "slices";
+    case WalkOptions::KeyframePacing::Steps: return "steps";
+    case WalkOptions::KeyframePacing::None: break;
+  }
+  return "none";
+}
+
+// One walk. The members are the state the frames share; each method is one
+// stage of the loop.
+class WalkLoop {
+ public:
+  WalkLoop(const scenes::Scene& scene, const std::string& sceneLabel,
+           const scenes::CameraPath& path, const WalkOptions& opt)
+      : scene_(scene),
+        label_(sceneLabel),
+        path_(path),
+        opt_(opt),
+        frames_(opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames),
+        writing_(!opt.outDir.empty()),
+        step_(opt.inBetween),
+        recorder_(opt.keepFrames,
+                  writing_ && !opt.keepFrames
+                      ? opt.outDir + "/.report-frames.tmp-" + std::to_string(::getpid())
+                      : std::string(),
+                  frames_) {}
+
+  Result<WalkResult> run();
+
+ private:
+  Status setUp();
+  Status setUpSchedule();
+  Status setUpKeyframes();
+  Status warmUp();
+  Status calibrateRefresh();
+  void chooseStripFrames();
+  Status frame(int i);
+  Status keyframeFrame(int i, int k, json& fj, json& ms);
+  Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
+  Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
+  void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
+  void endFrameWork(json& ms, bool keyframeFrame);
+  Status getSource(int k, const keyframe::CachedKeyframe** out);
+  void releaseBefore(int k0);
+  NearGeometry nearGeometry(int k0, int k1) const;
+  json summary() const;
+  void summariseLod(json& s) const;
+  void summariseTiming(json& s) const;
+  void summariseBudget(json& s) const;
+
+  const scenes::Scene& scene_;
+  const std::string& label_;
+  const scenes::CameraPath& path_;
+  const WalkOptions& opt_;
+  const int frames_;
+  const bool writing_;
+
+  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
+  warp::WarpOptions wopt_;
+  std::unique_ptr<warp::Warper> warper_;
+  keyframe::KeyframeSchedule schedule_;
+  std::vector<Camera> cams_;
+  std::vector<char> walked_;  // onlySegments: the frames walked (empty = all)
+  bool asyncKf_ = false;
+  // Declared before the cache so that it outlives it (joined on every return).
+  std::unique_ptr<keyframe::AsyncKeyframes> kfWorker_;
+  std::unique_ptr<keyframe::KeyframeCache> cache_;
+  double warmupMs_ = 0;
+  int warmupStalls_ = 0;
+  double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
+  bool builtThisFrame_ = false;
+
+  // Frame budget and refresh.
+  bool budgetOn_ = false, trackAge_ = false;
+  std::unique_ptr<AutoFrameBudget> autoBudget_;
+  double budgetMs_ = 0;  // this frame's budget (0 = none: no refresh, no pacing)
+  RefreshCostModel refreshCost_;
+  double refreshCalibrationMs_ = 0;
+  Image<Rgba8> refreshColour_;
+  std::vector<std::uint32_t> tileScores_;
+  std::vector<int> tileOrder_;
+  double workBeforeRefreshMs_ = -1;  // this frame's work when a refresh started (-1: none)
+
+  std::map<int, std::unique_ptr<warp::WarpSource>> sources_;  // keyframe → GPU copy
+  std::map<int, warp::WarpStats> uploadStats_;
+  InBetweenStep step_;
+  gapfill::Frame frame_, previous_;
+  bool havePrevious_ = false;
+  Image<Rgba8> reference_;
+  std::vector<int> stripFrames_;
+  std::size_t inBetweenCount_ = 0;
+
+  Stopwatch frameSw_;
+  std::chrono::steady_clock::time_point frameStart_;
+  int currentFrame_ = 0;
+  double currentRefMs_ = 0;
+  long long debugErrors0_ = 0;
+  WalkRecorder recorder_;
+};
+
+Status WalkLoop::setUp() {
+  if (writing_) {
+    HW_TRY(ensureWritableDir(opt_.outDir));
+    if (opt_.saveFrames) {
+      HW_TRY(ensureWritableDir(opt_.outDir + "/frames"));
+      HW_TRY(ensureWritableDir(opt_.outDir + "/holes"));
+    }
+  }
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = opt_.depthMode;
+  ropt.keyframeExcludeNear = opt_.inBetween.nearDistance;
+  auto rendererR = keyframe::GeometryRenderer::create(scene_, ropt);
+  if (!rendererR) return rendererR.error();
+  renderer_ = std::move(*rendererR);
+  // The reference uses the same renderer settings: the geometry image at the
+  // same camera (DESIGN.md "What is measured").
+  wopt_ = opt_.warp;
+  wopt_.writeEyeZ = opt_.inBetween.needsEyeZ();
+  // The large-leaf mask only feeds psnr_large_quads: without a reference it is not made.
+  wopt_.markLargeQuads = wopt_.markLargeQuads && opt_.reference;
+  auto warperR = warp::Warper::create(wopt_);
+  if (!warperR) return warperR.error();
+  warper_ = std::move(*warperR);
+  HW_TRY(setUpSchedule());
+  return setUpKeyframes();
+}
+
+Status WalkLoop::setUpSchedule() {
+  schedule_ = keyframe::KeyframeSchedule{frames_, path_.keyframeEvery, {}};
+  // Every frame's camera once (CameraPath::cameraAt rebuilds its arc-length
+  // table per call); read-only, so the keyframe worker thread may use it too.
+  cams_ = path_.cameras();
+  for (int k : opt_.keyframeFrames)
+    if (k > 0 && k < frames_ - 1) schedule_.explicitFrames.push_back(k);
+  auto& ex = schedule_.explicitFrames;
+  std::sort(ex.begin(), ex.end());
+  ex.erase(std::unique(ex.begin(), ex.end()), ex.end());
+  if (!opt_.keyframeFrames.empty() && ex.empty()) ex.push_back(frames_ - 1);  // only the two ends
+  if (opt_.onlySegments.empty()) return {};
+  walked_.assign(static_cast<std::size_t>(frames_), 0);
+  for (const auto& [a, b] : opt_.onlySegments) {
+    if (a < 0 || b >= frames_ || a >= b || !schedule_.isKeyframe(a) || !schedule_.isKeyframe(b) ||
+        schedule_.bracket(a + 1).second != b)
+      return makeError("walk: a segment to walk (" + std::to_string(a) + ", " + std::to_string(b) +
+                       ") is not two consecutive keyframes of the schedule within 0.." +
+                       std::to_string(frames_ - 1));
+    for (int i = a; i <= b; ++i) walked_[static_cast<std::size_t>(i)] = 1;
+  }
+  return {};
+}
+
+// Keyframe acquisition: cache (memory bound), and with asyncKeyframes a
+// worker that renders and meshes them ahead along the schedule.
+Status WalkLoop::setUpKeyframes() {
+  const keyframe::MeshSpec meshSpec{opt_.mesh, opt_.lod, opt_.tileSize};
+  auto cameraOf = [this](int i) { return cams_[static_cast<std::size_t>(i)]; };
+  asyncKf_ = opt_.asyncKeyframes && !opt_.keyframeSource;
+  if (asyncKf_) {
+    keyframe::AsyncKeyframeOptions aopt;
+    aopt.render = renderer_->options();
+    aopt.mesh = meshSpec;
+    aopt.maxQueued = std::max(1, opt_.keyframePrefetch) + 2;  // the bracket + those ahead
+    aopt.flushEveryTriangles = opt_.keyframeFlushTriangles;
+    aopt.workerNice = opt_.keyframeWorkerNice;
+    using P = WalkOptions::KeyframePacing;
+    if (opt_.keyframePacing == P::Steps) aopt.stepsPerFrame = opt_.keyframeStepsPerFrame;
+    if (opt_.keyframePacing == P::Time || opt_.keyframePacing == P::Slices) {
+      aopt.slices = opt_.keyframePacing == P::Slices;
+      const std::size_t nk = schedule_.keyframes().size();
+      aopt.framesPerKeyframe =
+          nk > 1 ? static_cast<double>(frames_ - 1) / static_cast<double>(nk - 1) : 1.0;
+      aopt.budgetScale = opt_.keyframeBudgetScale;
+    }
+    auto w = keyframe::AsyncKeyframes::create(scene_, cameraOf, aopt);
+    if (!w) return w.error();
+    kfWorker_ = std::move(*w);
+  }
+  cache_ = std::make_unique<keyframe::KeyframeCache>(
+      *renderer_, meshSpec, cameraOf,
+      keyframe::CacheOptions{opt_.keyframeCacheBytes, std::max(0, opt_.keyframePrefetch)});
+  cache_->setSchedule(schedule_);
+  if (opt_.keyframeSource) cache_->setSource(opt_.keyframeSource);
+  if (kfWorker_) cache_->setProducer(kfWorker_.get());
+  return {};
+}
+
+// Warm-up, as a viewer loads before its first frame: the first two keyframes
+// are built (or, async, waited for) before the walk starts.
+Status WalkLoop::warmUp() {
+  Stopwatch warmupSw;
+  if (asyncKf_) HW_TRY(cache_->prefetch(frames_ > 1 ? 1 : 0));
+  for (int k : {schedule_.bracket(0).first, schedule_.bracket(frames_ > 1 ? 1 : 0).second}) {
+    auto kf = cache_->get(k);
+    if (!kf) return kf.error();
+  }
+  warmupMs_ = warmupSw.ms();
+  warmupStalls_ = cache_->stalls();
+  budgetOn_ = opt_.frameBudgetMs > 0 || opt_.frameBudgetAuto;
+  if (opt_.frameBudgetAuto &&
+      (opt_.frameBudgetWindow < 1 ||
+       !(opt_.frameBudgetQuantile > 0 && opt_.frameBudgetQuantile <= 1)))
+    return makeError(
+        "walk: automatic frame budget: expected window >= 1 and 0 < quantile <= 1, got window " +
+        std::to_string(opt_.frameBudgetWindow) + ", quantile " +
+        std::to_string(opt_.frameBudgetQuantile));
+  autoBudget_ = std::make_unique<AutoFrameBudget>(
+      std::max(1, opt_.frameBudgetWindow),
+      opt_.frameBudgetQuantile > 0 && opt_.frameBudgetQuantile <= 1 ? opt_.frameBudgetQuantile
+                                                                     : 0.9);
+  budgetMs_ = opt_.frameBudgetAuto ? 0.0 : opt_.frameBudgetMs;
+  trackAge_ = budgetOn_ || opt_.pixelAge;
+  if (!budgetOn_) return {};
+  if (opt_.staleAfter < 1)
+    return makeError("walk: staleAfter " + std::to_string(opt_.staleAfter) +
+                     ": expected at least 1 frame");
+  return calibrateRefresh();
+}
+
+// The refresh render's cost model, calibrated before the first frame: two
+// scissored renders, each timed on its second run (a tile at the centre and
+// the whole image).
+Status WalkLoop::calibrateRefresh() {
+  constexpr int kTile = WalkOptions::kRefreshTilePx;
+  Stopwatch cal;
+  const Camera cam0 = path_.cameraAt(0);
+  const int tw = std::min(kTile, cam0.width), th = std::min(kTile, cam0.height);
+  const keyframe::PixelRect small{(cam0.width - tw) / 2, (cam0.height - th) / 2,
+                                  (cam0.width - tw) / 2 + tw, (cam0.height - th) / 2 + th};
+  const keyframe::PixelRect full{0, 0, cam0.width, cam0.height};
+  double t[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const keyframe::PixelRect& r = k == 0 ? small : full;
+    for (int rep = 0; rep < 2; ++rep) {
+      Stopwatch sw;
+      HW_TRY(renderer_->renderColourRect(cam0, r, refreshColour_));
+      t[k] = sw.ms();
+    }
+  }
+  refreshCost_.calibrate(small.area(), t[0], full.area(), t[1]);
+  refreshCalibrationMs_ = cal.ms();
+  return {};
+}
+
+// Strip frames: spread over the in-between frames.
+void WalkLoop::chooseStripFrames() {
+  std::vector<int> inBetween;
+  for (int i = 0; i < frames_; ++i)
+    if (!schedule_.isKeyframe(i)) inBetween.push_back(i);
+  inBetweenCount_ = inBetween.size();
+  for (int s = 0; s < opt_.strips && !inBetween.empty(); ++s) {
+    const std::size_t k =
+        (2 * s + 1) * inBetween.size() / (2 * static_cast<std::size_t>(opt_.strips));
+    if (stripFrames_.empty() || stripFrames_.back() != inBetween[k])
+      stripFrames_.push_back(inBetween[k]);
+  }
+}
+
+Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
+  auto kf = cache_->get(k);
+  if (!kf) return kf.error();
+  *kfOut = *kf;
+  auto& s = recorder_.series;
+  if (cache_->lastWaitMs() > 0) {
+    frameWaitMs_ += cache_->lastWaitMs();
+    s.stallMs.push_back(cache_->lastWaitMs());
+  }
+  if (sources_.count(k)) return {};
+  builtThisFrame_ = true;
+  warp::WarpStats ws;
+  auto src = warper_->upload((*kf)->keyframe, (*kf)->mesh, &ws);
+  if (!src) return src.error();
+  sources_[k] = std::move(*src);
+  uploadStats_[k] = ws;
+  const auto& ms = (*kf)->mesh.stats;
+  s.keyframeMs.push_back((*kf)->renderMs + ms.deltaMs + ms.subdivideMs + ms.cornersMs +
+                         ws.uploadMs);
+  s.quadsPerKeyframe.push_back(static_cast<double>(ms.quads));
+  s.drawnQuads.push_back(ws.drawnQuads);
+  s.pointsPerKeyframe.push_back(ws.points);
+  s.subdividedQuads.push_back(ws.subdividedQuads);
+  s.lodBuildMs.push_back(ms.deltaMs + ms.subdivideMs + ms.cornersMs);
+  s.onePixelLeaves.push_back(static_cast<double>(ms.onePixelLeaves));
+  return {};
+}
+
+NearGeometry WalkLoop::nearGeometry(int k0, int k1) const {
+  NearGeometry near;
+  near.renderer = renderer_.get();
+  near.eyes[0] = cams_[static_cast<std::size_t>(k0)].eye;
+  near.eyes[1] = cams_[static_cast<std::size_t>(k1)].eye;
+  near.eyeCount = k0 == k1 ? 1 : 2;
+  return near;
+}
+
+// The end of a frame's work: ms["frame"] (work), then with a budget and
+// pacing a sleep until the budget has passed since the frame started, and
+// ms["interval"], the presented frame interval (work + that wait; the
+// reference render and the metrics stay outside both).
+void WalkLoop::endFrameWork(json& ms, bool keyframeFrame) {
+  auto& s = recorder_.series;
+  auto& c = recorder_.counts;
+  if (kfWorker_ && opt_.keyframePacing == WalkOptions::KeyframePacing::Slices) {
+    const double slice = kfWorker_->runSlice();  // part of the frame: the CPUs are the worker's now
+    ms["keyframe_slice"] = slice;
+    s.sliceMs.push_back(slice);
+  }
+  const double work = frameSw_.ms();
+  ms["frame"] = work;
+  if (kfWorker_) ms["keyframe_worker"] = kfWorker_->workerMsSinceTick();
+  const bool budgeted = budgetOn_ && budgetMs_ > 0;
+  if (budgeted) {
+    if (work > budgetMs_) {
+      ++c.budgetOverruns;
+      c.budgetOverrunsInBetween += !keyframeFrame;
+      // Within the budget before a refresh, over it after: the estimate missed.
+      c.budgetOverrunsByRefresh += workBeforeRefreshMs_ >= 0 && workBeforeRefreshMs_ <= budgetMs_;
+    }
+    if (opt_.paceFrames)
+      std::this_thread::sleep_until(
+          frameStart_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double, std::milli>(budgetMs_)));
+  }
+  const double interval =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart_)
+          .count();
+  ms["pacing_wait"] = std::max(0.0, interval - work);
+  ms["interval"] = interval;
+  s.frameIntervalMs.push_back(interval);
+  recorder_.frameTimes.push(currentFrame_, keyframeFrame, builtThisFrame_, work, interval,
+                            budgeted ? budgetMs_ : 0.0, currentRefMs_);
+  if (!keyframeFrame) s.inBetweenIntervalMs.push_back(interval);
+}
+
+Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
+  const Camera& cam = cams_[static_cast<std::size_t>(i)];
+  const keyframe::CachedKeyframe* kf = nullptr;
+  HW_TRY(getSource(k0, &kf));
+  fj["is_keyframe"] = true;
+  fj["keyframes"] = {k0};
+  fj["quads"] = kf->mesh.stats.quads;
+  const auto& st = kf->mesh.stats;
+  const double upload = uploadStats_[k0].uploadMs;
+  ms = {{"keyframe_render", kf->renderMs}, {"delta", st.deltaMs}, {"subdivide", st.subdivideMs},
+        {"corners", st.cornersMs},         {"upload", upload}};
+  ms["total"] = kf->renderMs + st.deltaMs + st.subdivideMs + st.cornersMs + upload;
+  showKeyframe(kf->keyframe.colour, frame_);
+  if (opt_.inBetween.nearDistance > 0) {
+    InBetweenStats ns;
+    HW_TRY(step_.drawNear(nearGeometry(k0, k0), cam, kf->keyframe.eyeZ, frame_, ns));
+    ms["near_geometry"] = ns.nearMs;
+    ms["near_geometry_draw"] = ns.nearDrawMs;
+    recorder_.series.nearMs.push_back(ns.nearMs);
+    ms["total"] = ms["total"].get<double>() + ns.nearMs;
+  }
+  // The displayed keyframe costs no warp: upload the next keyframe now if it
+  // is already built, instead of on the next frame.
+  if (i + 1 < frames_) {
+    const int next = schedule_.bracket(i + 1).second;
+    if (next != k0 && !sources_.count(next) && cache_->contains(next)) {
+      const keyframe::CachedKeyframe* kn = nullptr;
+      HW_TRY(getSource(next, &kn));
+      // llvmpipe's first draw from a new source costs about a warp more than
+      // later ones (measured): take it here, into a scratch layer.
+      HW_TRY(warper_->warp(*sources_[next], cam, step_.layerB(), nullptr));
+    }
+  }
+  if (trackAge_) {
+    Stopwatch sa;
+    const gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    ms["age"] = sa.ms();
+    fj["stale_pixels"] = as.stale;
+    fj["max_age"] = as.maxAge;
+  }
+  endFrameWork(ms, true);
+  fj["holes_before_fallback"] = 0.0;
+  fj["holes_after_fallback"] = 0.0;
+  if (opt_.reference) {
+    fj["psnr"] = finiteOrNull(psnr(frame_.colour, reference_));  // identical: +inf → null
+    fj["ssim"] = ssim(frame_.colour, reference_);
+  } else {
+    fj["psnr"] = nullptr;
+    fj["ssim"] = nullptr;
+  }
+  return {};
+}
+
+// With a budget: the region whose pixels are oldest re-rendered while its
+// estimated cost fits in the time left (WalkOptions::frameBudgetMs).
+Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as) {
+  constexpr int kTile = WalkOptions::kRefreshTilePx;
+  auto& s = recorder_.series;
+  Stopwatch sr;
+  int cols = 0, rows = 0;
+  gapfill::scoreStaleTiles(frame_.age, opt_.staleAfter, kTile, tileScores_, &cols, &rows);
+  long long refreshed = 0;
+  json rects = json::array();
+  for (int n = 0; n < WalkOptions::kMaxRefreshRects; ++n) {
+    if (budgetMs_ <= 0) break;
+    const long long maxPx = refreshCost_.maxPixels(budgetMs_ - frameSw_.ms());
+    keyframe::PixelRect r;
+    if (maxPx < 1 || !gapfill::chooseRefreshRect(tileScores_, cols, rows, kTile, cam.width,
+                                                cam.height, maxPx, tileOrder_, &r))
+      break;
+    const double predicted = refreshCost_.predict(r.area());
+    if (workBeforeRefreshMs_ < 0) workBeforeRefreshMs_ = frameSw_.ms();
+    Stopwatch one;
+    HW_TRY(renderer_->renderColourRect(cam, r, refreshColour_));
+    gapfill::applyRefresh(r, refreshColour_, frame_);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x)
+        step_.clearLargeQuad(static_cast<std::size_t>(y) * static_cast<std::size_t>(cam.width) +
+                             static_cast<std::size_t>(x));
+    const double t = one.ms();
+    refreshCost_.update(r.area(), t);
+    s.refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
+    gapfill::clearTileScores(r, cols, kTile, tileScores_);
+    refreshed += r.area();
+    rects.push_back({{"rect", {r.x0, r.y0, r.width(), r.height()}},
+                     {"ms", t},
+                     {"predicted_ms", predicted}});
+  }
+  if (refreshed > 0) {
+    as = gapfill::ageStats(frame_.age);
+    ++recorder_.counts.framesRefreshed;
+    recorder_.counts.refreshRects += static_cast<long long>(rects.size());
+  }
+  const double rt = sr.ms();
+  ms["refresh"] = rt;
+  s.refreshMs.push_back(rt);
+  s.refreshedPixels.push_back(static_cast<double>(refreshed));
+  fj["refreshed_pixels"] = refreshed;
+  fj["refresh_rects"] = std::move(rects);
+  return {};
+}
+
+Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
+  const Camera& cam = cams_[static_cast<std::size_t>(i)];
+  auto& s = recorder_.series;
+  const keyframe::CachedKeyframe* kfa = nullptr;
+  const keyframe::CachedKeyframe* kfb = nullptr;
+  HW_TRY(getSource(k0, &kfa));
+  HW_TRY(getSource(k1, &kfb));
+  // The keyframe whose eye is nearer is the foreground (paper §2.2 (i)).
+  const int fgPick =
+      gapfill::chooseForeground(cam.eye, kfa->keyframe.camera.eye, kfb->keyframe.camera.eye);
+  const int fgFrame = fgPick == 0 ? k0 : k1, bgFrame = fgPick == 0 ? k1 : k0;
+  Stopwatch total;
+  InBetweenStats st;
+  const NearGeometry near = nearGeometry(k0, k1);
+  HW_TRY(step_.draw(*warper_, *sources_[fgFrame], sources_[bgFrame].get(), cam,
+                    havePrevious_ ? &previous_ : nullptr, &near, frame_, st));
+  if (st.fused) {
+    if (st.backgroundDrawn) s.backgroundCulled.push_back(st.backgroundCulled);
+    ms = {{"warp_a", st.warpAMs}, {"warp_b", st.warpBMs},
+          {"readback", st.readbackMs}, {"compose", st.composeMs}};
+    if (st.cullMs > 0) ms["cull"] = st.cullMs;
+  } else {
+    ms = {{"warp_a", st.warpAMs},          {"warp_b", st.warpBMs},
+          {"warp_a_draw", st.warpADrawMs}, {"warp_b_draw", st.warpBDrawMs},
+          {"readback", st.readbackMs},     {"compose", st.composeMs}};
+  }
+  s.warpMs.push_back(st.warpMs());
+  if (st.nearMs >= 0) {
+    ms["near_geometry"] = st.nearMs;
+    ms["near_geometry_draw"] = st.nearDrawMs;
+    s.nearMs.push_back(st.nearMs);
+  }
+  const double totalMs = total.ms();
+  ms["total"] = totalMs;
+  if (trackAge_) {
+    Stopwatch sa;
+    gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    ms["age"] = sa.ms();
+    fj["stale_pixels_before_refresh"] = as.stale;
+    if (budgetOn_) HW_TRY(refresh(cam, fj, ms, as));
+    fj["stale_pixels"] = as.stale;
+    fj["max_age"] = as.maxAge;
+    s.stalePixels.push_back(as.stale);
+    s.maxAges.push_back(as.maxAge);
+  }
+  recorder_.counts.backgroundSkips += st.backgroundSkipped;
+  recorder_.counts.previousSkips += st.previousSkipped;
+  fj["is_keyframe"] = false;
+  fj["keyframes"] = {k0, k1};
+  fj["foreground"] = fgFrame;
+  fj["quads"] = st.quads();
+  fj["skipped"] = {{"background", st.backgroundSkipped}, {"previous_frame", st.previousSkipped}};
+  fj["foreground_uncovered_pixels"] = st.foregroundUncovered;
+  s.foregroundUncovered.push_back(st.foregroundUncovered);
+  endFrameWork(ms, false);
+  s.inBetweenFrameMs.push_back(ms["frame"].get<double>());
+  if (opt_.frameBudgetAuto)  // the next frames' budget: this frame's work without its refresh
+    autoBudget_->add(ms["frame"].get<double>() -
+                     (ms.contains("refresh") ? ms["refresh"].get<double>() : 0.0));
+  fj["holes_before_fallback"] = frame_.holeFractionBefore;
+  fj["holes_after_fallback"] = frame_.holeFractionAfter;
+  s.holesBefore.push_back(frame_.holeFractionBefore);
+  s.holesAfter.push_back(frame_.holeFractionAfter);
+  s.inBetweenMs.push_back(totalMs);
+  s.composeMs.push_back(st.composeMs);
+  recordQuality(i, fj, st.fused, st.backgroundSkipped);
+  return {};
+}
+
+// PSNR, SSIM and per-channel MSE against the reference; the large-leaf pixels'
+// PSNR; the strip when this frame is one of them.
+void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
+  auto& s = recorder_.series;
+  if (opt_.reference) {
+    const double p = psnr(frame_.colour, reference_);
+    const double q = ssim(frame_.colour, reference_);
+    const ChannelMse m = channelMse(frame_.colour, reference_);
+    fj["psnr"] = finiteOrNull(p);
+    fj["ssim"] = q;
+    fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
+    s.psnr.push_back(std::isfinite(p) ? p : 99.0);
+    s.ssim.push_back(q);
+  } else {
+    fj["psnr"] = nullptr;
+    fj["ssim"] = nullptr;
+  }
+  // Pixels whose colour came from a large leaf of either layer (the ones
+  // subdivision changes; previous-frame fill, near objects, refresh: not).
+  // Unknown with the depth merge, which does not say which layer won.
+  if (wopt_.markLargeQuads &&
+      (fused || opt_.inBetween.compose.mode == gapfill::ComposeMode::Overlay)) {
+    warp::Layer& layerA = step_.layerA();
+    const warp::Layer& layerB = step_.layerB();
+    Image<std::uint8_t>& large = layerA.largeQuad;
+    if (!fused && !bgSkipped)
+      for (std::size_t p = 0; p < large.size(); ++p)
+        if (!layerA.coverage.data()[p])
+          large.data()[p] = layerB.coverage.data()[p] ? layerB.largeQuad.data()[p] : 0;
+    long long count = 0;
+    for (std::size_t p = 0; p < large.size(); ++p) count += large.data()[p];
+    fj["large_quad_pixels"] = count;
+    s.largeQuadPixels.push_back(static_cast<double>(count));
+    const double pl =
+        opt_.reference ? psnrCapped(frame_.colour, reference_, large) : std::nan("");
+    fj["psnr_large_quads"] = finiteOrNull(pl);  // NaN: no such pixel or no reference
+    if (std::isfinite(pl)) s.psnrLargeQuads.push_back(pl);
+  } else {
+    fj["large_quad_pixels"] = nullptr;
+    fj["psnr_large_quads"] = nullptr;
+  }
+  if (writing_ && opt_.reference &&
+      std::find(stripFrames_.begin(), stripFrames_.end(), i) != stripFrames_.end()) {
+    const Image<Rgba8> diff = diffImage(frame_.colour, reference_, 4);
+    const Image<Rgba8> holes =
+        maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{30, 30, 30, 255});
+    recorder_.strips.push_back(
+        hstack({&reference_, &frame_.colour, &diff, &holes}, 4, Rgba8{255, 255, 255, 255}));
+    recorder_.stripInfo.push_back({{"frame", i},
+                                   {"psnr", fj["psnr"]},
+                                   {"ssim", fj["ssim"]},
+                                   {"holes_before_fallback", frame_.holeFractionBefore}});
+  }
+}
+
+// Drop GPU copies of keyframes no later frame can use.
+void WalkLoop::releaseBefore(int k0) {
+  for (auto it = sources_.begin(); it != sources_.end();)
+    it = it->first < k0 ? sources_.erase(it) : std::next(it);
+  for (auto it = uploadStats_.begin(); it != uploadStats_.end();)
+    it = it->first < k0 ? uploadStats_.erase(it) : std::next(it);
+  cache_->releaseBefore(k0);
+}
+
+Status WalkLoop::frame(int i) {
+  currentFrame_ = i;
+  builtThisFrame_ = false;
+  const Camera& cam = cams_[static_cast<std::size_t>(i)];
+  json fj;
+  fj["index"] = i;
+  const auto [k0, k1] = schedule_.bracket(i);
+  json ms = json::object();
+  currentRefMs_ = std::nan("");
+  if (opt_.reference) {
+    keyframe::RenderStats rs;
+    HW_TRY(renderer_->renderColour(cam, reference_, &rs));
+    currentRefMs_ = rs.drawMs + rs.readbackMs;
+    recorder_.series.referenceMs.push_back(currentRefMs_);
+  }
+  // What a viewer waits for: keyframe acquisition (build or wait), upload,
+  // warp, compose; not the reference or the metrics.
+  if (opt_.frameBudgetAuto) {
+    budgetMs_ = autoBudget_->budgetMs();
+    fj["budget_ms"] = budgetMs_ > 0 ? json(budgetMs_) : json(nullptr);
+  }
+  frameSw_.restart();
+  frameStart_ = std::chrono::steady_clock::now();
+  workBeforeRefreshMs_ = -1;
+  frameWaitMs_ = 0;
+  if (asyncKf_) {
+    kfWorker_->frameTick();
+    HW_TRY(cache_->prefetch(i));
+  }
+  if (k0 == k1)
+    HW_TRY(keyframeFrame(i, k0, fj, ms));
+  else
+    HW_TRY(inBetweenFrame(i, k0, k1, fj, ms));
+  ms["keyframe_wait"] = frameWaitMs_;
+  recorder_.series.frameMs.push_back(ms["frame"].get<double>());
+  fj["reference_ms"] = opt_.reference ? json(currentRefMs_) : json(nullptr);
+  fj["ms"] = ms;
+  if (writing_ && opt_.saveFrames) {
+    HW_TRY(writePng(opt_.outDir + "/frames/" + frameName(i), frame_.colour));
+    HW_TRY(writePng(opt_.outDir + "/holes/" + frameName(i),
+                    maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255},
+                                Rgba8{0, 0, 0, 255})));
+  }
+  if (!fj["is_keyframe"].get<bool>() && fj["reference_ms"].is_number())
+    recorder_.series.speedup.push_back(fj["reference_ms"].get<double>() /
+                                       fj["ms"]["total"].get<double>());
+  HW_TRY(recorder_.addFrame(std::move(fj)));
+  std::swap(previous_, frame_);
+  havePrevious_ = true;
+  releaseBefore(k0);
+  recorder_.counts.glErrors += gl::drainGlErrors();
+  if ((i + 1) % 500 == 0) recorder_.residentKiB.push_back({i + 1, residentKiB()});
+  return {};
+}
+
+Result<WalkResult> WalkLoop::run() {
+  HW_TRY(setUp());
+  HW_TRY(warmUp());
+  HW_TRY(recorder_.open());
+  debugErrors0_ = gl::debugCallbackErrors();
+  chooseStripFrames();
+  recorder_.frameTimes.reserve(static_cast<std::size_t>(frames_));
+  Progress progress(opt_.progress, frames_, "walk");
+  for (int i = 0; i < frames_; ++i) {
+    if (!walked_.empty() && !walked_[static_cast<std::size_t>(i)]) continue;
+    HW_TRY(frame(i));
+    progress.update(i + 1);
+  }
+  WalkResult result;
+  HW_TRY(recorder_.finish(summary(), writing_ ? opt_.outDir + "/report.json" : std::string(),
+                          &result.report));
+  if (writing_)
+    for (std::size_t s = 0; s < recorder_.strips.size(); ++s)
+      HW_TRY(writePng(opt_.outDir + "/strip_" +
+                          std::to_string(recorder_.stripInfo[s]["frame"].get<int>()) + ".png",
+                      recorder_.strips[s]));
+  result.frameTimes = std::move(recorder_.frameTimes);
+  return result;
+}
+
+json WalkLoop::summary() const {
+  const auto& r = recorder_.series;
+  json s;
+  s["scene"] = {{"name", label_}, {"triangles", scene_.triangleCount()}};
+  s["resolution"] = {path_.width, path_.height};
+  s["frames"] = frames_;
+  s["keyframes"] = static_cast<int>(cache_->builds());
+  s["in_between_frames"] = static_cast<int>(inBetweenCount_);
+  s["keyframe_every"] = path_.keyframeEvery;
+  s["keyframe_schedule"] = opt_.keyframeFrames.empty() ? "fixed" : "explicit";
+  s["keyframe_frames"] = schedule_.keyframes();
+  summariseLod(s);
+  s["psnr"] = seriesStats(r.psnr);
+  s["psnr_large_quads"] = seriesStats(r.psnrLargeQuads);
+  s["large_quad_pixels"] = seriesStats(r.largeQuadPixels);
+  s["ssim"] = seriesStats(r.ssim);
+  s["holes_before_fallback"] = seriesStats(r.holesBefore);
+  s["holes_after_fallback"] = seriesStats(r.holesAfter);
+  s["quads_per_keyframe"] = seriesStats(r.quadsPerKeyframe);
+  s["in_between_ms"] = seriesStats(r.inBetweenMs);
+  s["warp_ms"] = seriesStats(r.warpMs);
+  s["compose_ms"] = seriesStats(r.composeMs);
+  s["reference_ms"] = seriesStats(r.referenceMs);
+  s["keyframe_build_ms"] = seriesStats(r.keyframeMs);
+  s["lod_build_ms"] = seriesStats(r.lodBuildMs);
+  s["one_pixel_leaves_per_keyframe"] = seriesStats(r.onePixelLeaves);
+  s["speedup_reference_over_in_between"] = seriesStats(r.speedup);
+  s["gl_errors"] = std::max(recorder_.counts.glErrors,
+                            debugErrors0_ < 0 ? 0LL : gl::debugCallbackErrors() - debugErrors0_);
+  s["resident_kib_every_500_frames"] = recorder_.residentKiB;
+  summariseTiming(s);
+  summariseBudget(s);
+  s["machine"] = machineInfo(opt_.glRenderer, opt_.glVersion);
+  s["strips"] = recorder_.stripInfo;
+  return s;
+}
+
+void WalkLoop::summariseLod(json& s) const {
+  const auto& r = recorder_.series;
+  const auto& c = recorder_.counts;
+  const auto& ib = opt_.inBetween;
+  s["tau"] = opt_.lod.tauParallaxPx > 0 ? json(nullptr) : json(opt_.lod.tau);
+  s["tau_parallax_px"] = opt_.lod.tauParallaxPx;
+  s["criterion"] = keyframe::deltaCriterionName(opt_.lod.criterion);
+  s["mesh"] = keyframe::meshMethodName(opt_.mesh);
+  s["planarity"] = keyframe::planarityName(opt_.lod.planarity);
+  s["merge_strips"] = opt_.lod.mergeStrips;
+  s["tau_gradient"] = opt_.lod.tauGradient;
+  s["tile_size"] =
+      opt_.mesh == keyframe::MeshMethod::UniformTiles ? json(opt_.tileSize) : json(nullptr);
+  s["depth_mode"] = depthModeName(opt_.depthMode);
+  s["compose_mode"] = gapfill::composeModeName(ib.compose.mode);
+  s["texcoords"] = warp::texcoordModeName(opt_.warp.texcoords);
+  s["sky_backdrop"] = opt_.warp.skyBackdrop;
+  s["layers"] = ib.fused() ? "fused" : "separate";
+  s["near_distance"] = ib.nearDistance;
+  s["subdivision"] = warp::subdivisionName(opt_.warp.subdivision);
+  s["primitives"] = warp::primitivesName(opt_.warp.primitives);
+  s["points_per_keyframe"] = seriesStats(r.pointsPerKeyframe);  // 1×1 leaves as points
+  s["cull_background"] =
+      opt_.warp.cullBackground && opt_.warp.primitives != warp::Primitives::Independent;
+  s["background_quads_culled"] = seriesStats(r.backgroundCulled);
+  s["subdivide_cell_px"] = opt_.warp.subdivideCellPx;
+  s["drawn_quads_per_keyframe"] = seriesStats(r.drawnQuads);
+  s["subdivided_quads_per_keyframe"] = seriesStats(r.subdividedQuads);
+  s["near_geometry_ms"] = seriesStats(r.nearMs);
+  s["skip_background"] = ib.skipBackground;
+  s["skip_previous_frame"] = ib.skipPrevious;
+  s["background_layer_skipped_frames"] = c.backgroundSkips;
+  s["foreground_uncovered_pixels"] = seriesStats(r.foregroundUncovered);
+  s["previous_frame_pass_skipped_frames"] = c.previousSkips;
+}
+
+// Frame-time stability: wall time per frame as a viewer sees it, keyframe
+// frames included, and the in-between frames alone; keyframe acquisition.
+void WalkLoop::summariseTiming(json& s) const {
+  const auto& r = recorder_.series;
+  auto ratio = [](const std::vector<double>& v) {
+    const double m = median(v);
+    return m > 0 ? finiteOrNull(percentile(v, 95) / m) : json(nullptr);
+  };
+  using P = WalkOptions::KeyframePacing;
+  const bool timed = opt_.keyframePacing == P::Time || opt_.keyframePacing == P::Slices;
+  s["keyframe_acquisition"] = opt_.keyframeSource ? "source" : asyncKf_ ? "async" : "sync";
+  s["async_keyframes"] = asyncKf_;
+  s["keyframe_prefetch"] = asyncKf_ ? json(opt_.keyframePrefetch) : json(nullptr);
+  s["keyframe_cache_mb"] = static_cast<double>(opt_.keyframeCacheBytes) / (1 << 20);
+  s["keyframe_cache_peak_mb"] = static_cast<double>(cache_->peakBytes()) / (1 << 20);
+  s["keyframe_cache_evictions"] = cache_->evictions();
+  s["keyframe_cache_released"] = cache_->released();
+  s["frame_ms"] = seriesStats(r.frameMs);
+  s["frame_ms_p95_over_median"] = ratio(r.frameMs);
+  s["in_between_frame_ms"] = seriesStats(r.inBetweenFrameMs);
+  s["in_between_frame_ms_p95_over_median"] = ratio(r.inBetweenFrameMs);
+  s["keyframe_stalls"] = cache_->stalls() - warmupStalls_;
+  s["keyframe_warmup_ms"] = warmupMs_;
+  s["keyframe_stall_ms"] = seriesStats(r.stallMs);
+  double stallTotal = 0;
+  for (double t : r.stallMs) stallTotal += t;
+  s["keyframe_stall_ms_total"] = stallTotal;
+  s["keyframe_flush_triangles"] = asyncKf_ ? json(opt_.keyframeFlushTriangles) : json(nullptr);
+  s["keyframe_worker_nice"] = asyncKf_ ? json(opt_.keyframeWorkerNice) : json(nullptr);
+  s["keyframe_pacing"] = asyncKf_ ? json(pacingName(opt_.keyframePacing)) : json(nullptr);
+  s["keyframe_budget_scale"] = asyncKf_ && timed ? json(opt_.keyframeBudgetScale) : json(nullptr);
+  s["keyframe_slice_ms"] = r.sliceMs.empty() ? json(nullptr) : seriesStats(r.sliceMs);
+  s["keyframe_steps_per_frame"] = asyncKf_ && opt_.keyframePacing == P::Steps
+                                      ? json(opt_.keyframeStepsPerFrame)
+                                      : json(nullptr);
+  s["keyframe_worker_busy_ms"] = kfWorker_ ? json(kfWorker_->workerBusyMs()) : json(nullptr);
+  s["frame_interval_ms"] = seriesStats(r.frameIntervalMs);
+  s["frame_interval_ms_p95_over_median"] = ratio(r.frameIntervalMs);
+  s["in_between_frame_interval_ms"] = seriesStats(r.inBetweenIntervalMs);
+  s["in_between_frame_interval_ms_p95_over_median"] = ratio(r.inBetweenIntervalMs);
+}
+
+// Frame budget and pixel age (WalkOptions::frameBudgetMs). With the automatic
+// budget: the median of the per-frame budgets.
+void WalkLoop::summariseBudget(json& s) const {
+  const auto& r = recorder_.series;
+  const auto& c = recorder_.counts;
+  std::vector<double> budgets;  // the frames that had one
+  for (double b : recorder_.frameTimes.budgetMs)
+    if (b > 0) budgets.push_back(b);
+  s["frame_budget_ms"] = opt_.frameBudgetAuto ? finiteOrNull(median(budgets))
+                                              : json(opt_.frameBudgetMs);
+  s["frame_budget_mode"] = opt_.frameBudgetAuto ? "auto" : budgetOn_ ? "fixed" : "off";
+  s["frame_budget_auto"] =
+      opt_.frameBudgetAuto
+          ? json{{"quantile", opt_.frameBudgetQuantile},
+                 {"window_frames", opt_.frameBudgetWindow},
+                 {"budget_ms", seriesStats(budgets)},
+                 {"frames_without_budget", frames_ - static_cast<int>(budgets.size())}}
+          : json(nullptr);
+  s["frame_pacing"] = budgetOn_ && opt_.paceFrames;
+  s["pixel_age"] = trackAge_;
+  s["stale_after"] = budgetOn_ ? json(opt_.staleAfter) : json(nullptr);
+  s["refresh_tile_px"] = budgetOn_ ? json(WalkOptions::kRefreshTilePx) : json(nullptr);
+  s["stale_pixels"] = seriesStats(r.stalePixels);
+  s["max_age"] = seriesStats(r.maxAges);
+  s["refreshed_pixels"] = seriesStats(r.refreshedPixels);
+  s["refresh_ms"] = seriesStats(r.refreshMs);
+  s["frames_refreshed"] = c.framesRefreshed;
+  s["refresh_rects"] = c.refreshRects;
+  s["refresh_cost_model"] = budgetOn_ ? json{{"fixed_ms", refreshCost_.fixedMs},
+                                             {"per_megapixel_ms", refreshCost_.perPixelMs * 1e6},
+                                             {"scale_at_end", refreshCost_.scale},
+                                             {"margin", RefreshCostModel::kMargin},
+                                             {"calibration_ms", refreshCalibrationMs_}}
+                                       : json(nullptr);
+  s["budget_overruns"] = budgetOn_ ? json(c.budgetOverruns) : json(nullptr);
+  s["budget_overruns_in_between"] = budgetOn_ ? json(c.budgetOverrunsInBetween) : json(nullptr);
+  s["budget_overruns_by_refresh"] = budgetOn_ ? json(c.budgetOverrunsByRefresh) : json(nullptr);
+  s["refresh_predicted_over_measured"] = seriesStats(r.refreshPredictedOverMeasured);
+}
+
+}  // namespace
+
+Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
+                           const scenes::CameraPath& path, const WalkOptions& options) {
+  WalkLoop loop(scene, sceneLabel, path, options);
+  return loop.run();
+}
+
+}  // namespace hw::session
