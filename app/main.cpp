@@ -1870,8 +1870,9 @@ int main(int argc, char** argv) {
   }
   auto res = session::runWalk(in->scene, walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
-  if (auto st = report::writeFrameTimes(walkOut + "/frame_times.png", *res, wo, walkC.scene); !st)
-    return fail(st.error().message);
+  if (!wo.outDir.empty())
+    if (auto st = report::writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, walkC.scene); !st)
+      return fail(st.error().message);
   if (!plannerJson.is_null()) {
     // The planner's settings and cost go into the report's summary.
     auto text = readFile(walkOut + "/report.json");
