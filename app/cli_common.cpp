@@ -1,0 +1,316 @@
+#include "app/cli_common.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "core/gl/context.h"
+#include "core/timer.h"
+#include "scenes/loader.h"
+
+namespace hw::app {
+
+int fail(const std::string& msg) {
+  std::fprintf(stderr, "hybridwalk: error: %s\n", msg.c_str());
+  return kExitRuntime;
+}
+
+// "2048", "2^11", "1e3" → value; error text otherwise.
+bool parseTau(const std::string& s, double* out) {
+  try {
+    std::size_t pos = 0;
+    const auto caret = s.find('^');
+    double v;
+    if (caret != std::string::npos) {
+      const double base = std::stod(s.substr(0, caret), &pos);
+      if (pos != caret) return false;
+      const std::string e = s.substr(caret + 1);
+      const double ex = std::stod(e, &pos);
+      if (pos != e.size()) return false;
+      v = std::pow(base, ex);
+    } else {
+      v = std::stod(s, &pos);
+      if (pos != s.size()) return false;
+    }
+    if (!std::isfinite(v) || v < 0) return false;
+    *out = v;
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+// A whole string that is one finite number (strtod syntax).
+bool parseFiniteDouble(const std::string& s, double* out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || !std::isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+// "4,6,2^3" → values (each as parseTau); false on a bad element.
+bool parseList(const std::string& s, std::vector<double>* out) {
+  out->clear();
+  std::size_t start = 0;
+  while (start < s.size()) {
+    std::size_t end = s.find(',', start);
+    if (end == std::string::npos) end = s.size();
+    double v = 0;
+    if (!parseTau(s.substr(start, end - start), &v)) return false;
+    out->push_back(v);
+    start = end + 1;
+  }
+  return true;
+}
+
+// --tau-gradient (LodOptions::tauGradient): the option and its parse.
+std::string suggestedTauGradient() {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", keyframe::suggestedTauGradient());
+  return buf;
+}
+std::string tauGradientHelp() {
+  return "Gradient-following LOD tolerance A: a pixel is non-planar when |Δ²z'| > tau + A·g, "
+         "g its depth gradient in z' units per pixel (per axis the smaller one-sided "
+         "difference, so a depth step does not raise its own tolerance). Dimensionless: extra "
+         "z' tolerance per z' unit/pixel of gradient; absorbs rasteriser noise on steep planes "
+         "at small tau. 0 = off (the fixed tau); suggested " +
+         suggestedTauGradient();
+}
+bool parseTauGradient(const std::string& s, double* out, std::string* err) {
+  if (parseTau(s, out)) return true;
+  *err = "--tau-gradient: expected a finite non-negative number like " +
+         suggestedTauGradient() + ", got '" + s + "'";
+  return false;
+}
+
+
+void addStudyLodOptions(CLI::App* c, StudyLod& o) {
+  c->add_option("--tau", o.tau, "LOD threshold in z' units ('2^11' or '2048')")->capture_default_str();
+  c->add_option("--planarity", o.planarity, "stencil (paper) or region-local")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  c->add_flag("--no-merge-strips", o.noMerge, "Do not merge coplanar leaves");
+}
+
+// Empty on success, else the message for the user.
+std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod) {
+  if (!parseTau(o.tau, &lod->tau))
+    return "--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tau + "'";
+  keyframe::parsePlanarity(o.planarity.c_str(), &lod->planarity);
+  lod->mergeStrips = !o.noMerge;
+  return {};
+}
+
+// --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
+// bound, named by maxName in the message). Empty on success, else the message.
+std::string parseSpacings(const std::string& text, int maxSpacing, const std::string& maxName,
+                          std::vector<int>* out, const std::string& option) {
+  std::vector<double> v;
+  if (!parseList(text, &v) || v.empty())
+    return option + ": expected comma-separated frame counts like 4,10,20, got '" + text + "'";
+  out->clear();
+  for (double d : v) {
+    if (d < 1 || d != std::floor(d) || (maxSpacing > 0 && d > maxSpacing))
+      return maxSpacing > 0 ? option + ": expected whole numbers from 1 to " + maxName + " " +
+                                  std::to_string(maxSpacing) + ", got '" + text + "'"
+                            : option + ": expected whole numbers >= 1, got '" + text + "'";
+    out->push_back(static_cast<int>(d));
+  }
+  return {};
+}
+
+// Keyframe schedule options of walk and schedule-study (issue #8).
+void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
+                       std::string& planBy, bool withAuto) {
+  c->add_option("--plan-by", planBy,
+                "Adaptive schedule: worst (every in-between frame predicted >= the target), "
+                "mean (each segment's mean predicted PSNR >= the target) or median (each "
+                "segment's median: at least half of all in-between frames) or walk-median "
+                "(the fewest keyframes with more than half of all in-between frames predicted "
+                ">= the target, placed by dynamic programming over the whole path)")
+      ->check(CLI::IsMember({"worst", "mean", "median", "walk-median"}))
+      ->capture_default_str();
+  c->add_option("--min-gap", p.minGap, "Adaptive schedule: fewest frames between keyframes")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--max-gap", p.maxGap, "Adaptive schedule: most frames between keyframes")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--probe-size", p.probeSize,
+                "Adaptive schedule: the predictor's low-resolution keyframe probes, pixels on "
+                "the longer side")
+      ->check(CLI::Range(8, 1024))
+      ->capture_default_str();
+  c->add_option("--candidate-stride", p.candidateStride,
+                "Adaptive schedule: try the next keyframe only every this many frames (fewer "
+                "probes to render)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  c->add_option("--frames-per-segment", p.framesPerSegment,
+                "Adaptive schedule: in-between frames tested per candidate segment, evenly "
+                "spaced (0 = all; fewer = cheaper, may miss a bad frame)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
+  std::vector<std::string> names;
+  if (withAuto) names.push_back("auto");
+  for (auto pr : keyframe::kAllPredictors) names.push_back(keyframe::predictorName(pr));
+  for (auto pr : keyframe::kProbePredictors) names.push_back(keyframe::predictorName(pr));
+  c->add_option("--predictor", predictor,
+                std::string("Adaptive schedule's predictor of in-between quality: holes (fraction "
+                            "of a low-res frame neither keyframe's forward splat covers), distance "
+                            "(eye offset / keyframe median depth), angle (view direction, deg), "
+                            "stretch (mean |log2| area change of warped pixels), disagreement "
+                            "(colour MSE between the two warped probes), holes+distance (both, two-term fit), "
+                            "probe-psnr (both keyframe probes warped into the frame's own probe and "
+                            "composed like the walk; its low-res PSNR, holes charged, calibrated "
+                            "to full-res dB; renders every frame's probe), probe-psnr+distance "
+                            "(that and distance, two-term fit), probe-psnr+features (probe-psnr, "
+                            "distance, holes, stretch, disagreement and angle: six regressors, "
+                            "meant to be refitted on the scene with --calibrate-spacing)") +
+                    (withAuto ? "; auto = the one, probe predictors included, whose fit ranks the fixed walks' PSNR best (Spearman; fits where PSNR rises with the regressor are skipped)" : ""))
+      ->check(CLI::IsMember(names))
+      ->capture_default_str();
+}
+
+
+// A whole number of frames in [lo, hi]: "expected a whole number of frames from
+// lo to hi, got 'V'".
+CLI::Validator wholeFrames(long lo, long hi, const std::string& name) {
+  return CLI::Validator(
+      [lo, hi](std::string& v) -> std::string {
+        char* end = nullptr;
+        const long x = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || x < lo || x > hi)
+          return "expected a whole number of frames from " + std::to_string(lo) + " to " +
+                 std::to_string(hi) + ", got '" + v + "'";
+        return {};
+      },
+      "FRAMES", name);
+}
+
+
+void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what) {
+  c->add_option("--frame-budget-ms", o.arg,
+                "Per-frame time budget in milliseconds of frame work (0 = off), or 'auto': " +
+                    what +
+                    ". 'auto' sets each frame's budget to the --frame-budget-quantile of the "
+                    "work of the last --frame-budget-window frames, so the frame rate stays "
+                    "steady on any scene and machine")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            if (v == "auto") return {};
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
+              return "expected milliseconds from 0 (off) to 60000, or 'auto', got '" + v + "'";
+            return {};
+          },
+          "MS|auto", "frame budget"))
+      ->capture_default_str();
+  c->add_option("--frame-budget-quantile", o.quantile,
+                "With --frame-budget-ms auto: the budget is this quantile of the recent "
+                "frames' work (walk: in-between frames, without their refresh; above 0, at most 1; 0.9 = 90th percentile: about one frame in "
+                "ten is late, the others present at the budget)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1)
+              return "expected a quantile above 0 and at most 1, got '" + v + "'";
+            return {};
+          },
+          "Q", "budget quantile"))
+      ->capture_default_str();
+  c->add_option("--frame-budget-window", o.window,
+                "With --frame-budget-ms auto: how many of the last frames the quantile is taken "
+                "over (frames, 1 to 100000)")
+      ->check(wholeFrames(1, 100000, "budget window"))
+      ->capture_default_str();
+}
+
+void addCommon(CLI::App* c, Common& o) {
+  c->add_option("--scene", o.scene,
+                "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
+                "indoor:1M; default 100k), or a model file read by Assimp (OBJ, glTF, PLY, "
+                "COLLADA, AC3D, .blend, ...)")
+      ->capture_default_str();
+  c->add_option("--path", o.path,
+                "Camera path JSON (DESIGN.md format: width, height, fov_y_deg, near, far, up, "
+                "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
+                "scene's built-in path");
+  c->add_option("--depth", o.depth,
+                "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
+                "far/near 1e5..1e6), fixed24 (the paper's 24-bit z-buffer), float32; all mapped "
+                "to the same z' scale")
+      ->check(CLI::IsMember({"fixed24", "float32", "float32-reversed"}))
+      ->capture_default_str();
+  c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
+
+
+Result<Loaded> loadInputs(const Common& o) {
+  Loaded l;
+  // Validate the cheap inputs first, so a bad path file fails before a
+  // large scene is generated or loaded.
+  if (!o.path.empty()) {
+    auto p = scenes::loadCameraPath(o.path);
+    if (!p) return p.error();
+    l.path = std::move(*p);
+  }
+  Stopwatch sw;
+  auto s = scenes::loadScene(o.scene);
+  if (!s) return s.error();
+  l.scene = std::move(*s);
+  for (const auto& w : l.scene.warnings) std::fprintf(stderr, "hybridwalk: warning: %s\n", w.c_str());
+  std::fprintf(stderr, "scene %s: %zu triangles, %zu meshes, loaded in %.0f ms\n",
+               l.scene.name.c_str(), l.scene.triangleCount(), l.scene.meshes.size(), sw.ms());
+  if (o.path.empty()) {
+    auto p = scenes::defaultPathFor(o.scene);
+    if (!p) return p.error();
+    l.path = std::move(*p);
+  }
+  auto ctx = gl::createHeadlessContext();
+  if (!ctx) return ctx.error();
+  l.context = std::move(*ctx);
+  return l;
+}
+
+DepthMode depthModeOf(const std::string& s) {
+  DepthMode m = kDefaultDepthMode;
+  parseDepthMode(s.c_str(), &m);
+  return m;
+}
+
+
+void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
+  c->add_flag("--slurm", o.d.slurm,
+              std::string("Run the chunks as one Slurm job array (sbatch --array; one task per chunk of ") +
+                  unit + "), poll squeue, merge; SIGINT/SIGTERM cancels the job (docs/slurm.md)");
+  c->add_option("--workers", o.d.workers,
+                "Without --slurm: run the chunks in this many local worker processes (1 = in-process)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  c->add_flag("--resume", o.d.resume,
+              "Rerun only the chunks without a result from an earlier failed or interrupted run of the "
+              "same command (same --out)");
+  c->add_option("--slurm-partition", o.d.partition, "sbatch --partition");
+  c->add_option("--slurm-account", o.d.account, "sbatch --account");
+  c->add_option("--slurm-time", o.d.timeLimit, "sbatch --time: time limit per array task (minutes, or [D-]H:MM:SS), e.g. 30 or 1:00:00");
+  c->add_option("--sbatch-arg", o.d.sbatchArgs,
+                "Extra sbatch argument, passed as given (repeatable); write it with = since it starts "
+                "with a dash: --sbatch-arg=--qos=short")
+      ->allow_extra_args(false);
+  c->add_option("--slurm-poll", o.d.pollSeconds, "Seconds between squeue polls")
+      ->check(CLI::Range(0.1, 600.0))
+      ->capture_default_str();
+  c->add_option("--chunk", o.chunk, "internal: run one chunk")->group("");
+}
+
+}  // namespace hw::app

@@ -1,0 +1,95 @@
+#pragma once
+// What the subcommands share: option groups bound to their structs (one
+// place for each default), value parsers with the messages users see, the
+// scene + path + GL context loader, and exit codes.
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench/slurm.h"
+#include "core/depth.h"
+#include "core/gl/context.h"
+#include "core/result.h"
+#include "keyframe/keyframe_planner.h"
+#include "keyframe/lod_builder.h"
+#include "scenes/camera_path.h"
+#include "scenes/scene.h"
+
+namespace hw::app {
+
+constexpr int kExitRuntime = 1;
+constexpr int kExitUsage = 2;
+
+// "hybridwalk: error: MSG" on stderr; returns kExitRuntime.
+int fail(const std::string& msg);
+
+// "2048", "2^11", "1e3" → value (finite, >= 0); false otherwise.
+bool parseTau(const std::string& s, double* out);
+// A whole string that is one finite number (strtod syntax).
+bool parseFiniteDouble(const std::string& s, double* out);
+// "4,6,2^3" → values (each as parseTau); false on a bad element.
+bool parseList(const std::string& s, std::vector<double>* out);
+// --tau-gradient (LodOptions::tauGradient): its help text and its parse.
+std::string suggestedTauGradient();
+std::string tauGradientHelp();
+bool parseTauGradient(const std::string& s, double* out, std::string* err);
+
+// LOD options shared by the schedule commands (schedule-study, schedule-oracle).
+struct StudyLod {
+  std::string tau = "2^11", planarity = "region-local";
+  bool noMerge = false;
+};
+
+struct Common {
+  std::string scene = "indoor";
+  std::string path;  // empty: the scene's default path
+  std::string depth = depthModeName(kDefaultDepthMode);
+  int frames = 0;
+};
+
+// --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window
+// (walk and view; session/frame_budget.h).
+struct FrameBudgetCli {
+  std::string arg = "0";
+  double quantile = 0.9;
+  int window = 30;
+  bool isAuto() const { return arg == "auto"; }
+  double ms() const { return isAuto() ? 0.0 : std::strtod(arg.c_str(), nullptr); }
+};
+
+struct Loaded {
+  scenes::Scene scene;
+  scenes::CameraPath path;
+  std::unique_ptr<gl::Context> context;
+};
+
+// Chunked runs (bake, sweep): --slurm / --workers, docs/slurm.md.
+struct DistributeCli {
+  bench::DistributeOptions d;
+  int chunk = -1;  // hidden: run one chunk (what a worker or array task runs)
+};
+
+void addStudyLodOptions(CLI::App* c, StudyLod& o);
+// Empty on success, else the message for the user.
+std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod);
+// --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
+// bound, named by maxName in the message). Empty on success, else the message.
+std::string parseSpacings(const std::string& text, int maxSpacing, const std::string& maxName,
+                          std::vector<int>* out, const std::string& option = "--spacings");
+// Keyframe schedule options of walk and schedule-study.
+void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
+                       std::string& planBy, bool withAuto);
+// A whole number of frames in [lo, hi].
+CLI::Validator wholeFrames(long lo, long hi, const std::string& name);
+void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what);
+// --scene, --path, --depth, --frames (and the size overrides) of every command on a path.
+void addCommon(CLI::App* c, Common& o);
+// The scene, its camera path (--path or the scene's default) and a headless
+// GL context; the cheap inputs are validated first.
+Result<Loaded> loadInputs(const Common& o);
+DepthMode depthModeOf(const std::string& s);
+void addDistribute(CLI::App* c, DistributeCli& o, const char* unit);
+
+}  // namespace hw::app

@@ -1,0 +1,187 @@
+// The `bake` command.
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "app/viewer.h"
+#include "session/bake.h"
+#include "bench/bench_suite.h"
+#include "session/export.h"
+#include "core/json_util.h"
+#include "bench/slurm.h"
+#include "session/schedule_calibration.h"
+#include "bench/schedule_oracle.h"
+#include "bench/schedule_study.h"
+#include "bench/stress.h"
+#include "bench/sweep.h"
+#include "session/walk.h"
+#include "report/schedule_plots.h"
+#include "report/walk_plots.h"
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/machine.h"
+#include "core/memory.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_db.h"
+#include "keyframe/keyframe_planner.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/overlay.h"
+#include "scenes/camera_path.h"
+#include "scenes/fetch.h"
+#include "scenes/loader.h"
+#include "scenes/q3bsp.h"
+#include "app/cli_common.h"
+
+namespace hw::app {
+namespace {
+
+using nlohmann::json;
+
+int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string& out, int perTask,
+            bool quiet, DistributeCli& dist, int argc, char** argv) {
+  namespace fs = std::filesystem;
+  if (out.empty()) return fail("bake: --out DIR is required (the keyframe database directory)");
+  auto in = loadInputs(c);
+  if (!in) return fail(in.error().message);
+  session::BakeOptions bo;
+  bo.lod = lod;
+  bo.depthMode = depthModeOf(c.depth);
+  bo.maxFrames = c.frames;
+  bo.outDir = out;
+  bo.progress = !quiet && dist.chunk < 0;
+  const int frames = session::bakeFrames(in->path, c.frames);
+  const std::vector<int> keys = session::bakeKeyframeList(in->path, frames);
+  const auto prov = session::bakeProvenance(c.scene, in->scene.triangleCount(), in->path, frames, lod, bo.depthMode);
+  const int chunks = static_cast<int>((keys.size() + perTask - 1) / perTask);
+  const std::string work = out + "/.chunks";
+  auto range = [&](int i) {
+    return std::vector<int>(keys.begin() + i * perTask,
+                            keys.begin() + std::min<std::size_t>(keys.size(), (i + 1) * std::size_t(perTask)));
+  };
+  auto entryJson = [](const keyframe::KeyframeDbEntry& e) {
+    return json{{"frame", e.frame}, {"file", e.file}, {"bytes", e.bytes}, {"checksum", keyframe::hex64(e.checksum)}};
+  };
+  if (dist.chunk >= 0) {
+    if (dist.chunk >= chunks)
+      return fail("--chunk: " + std::to_string(dist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
+    if (auto st = bench::failChunkHook(dist.chunk); !st) return fail(st.error().message);
+    auto e = session::bakeKeyframes(in->scene, in->path, range(dist.chunk), bo);
+    if (!e) return fail(e.error().message);
+    json ej = json::array();
+    for (const auto& x : *e) ej.push_back(entryJson(x));
+    if (auto st = bench::writeChunkResult(work, dist.chunk, {{"entries", ej}}); !st) return fail(st.error().message);
+    return 0;
+  }
+  if (dist.d.resume && !bench::distributed(dist.d))
+    return fail("--resume: only with --slurm or --workers N > 1 (an in-process bake has no chunks to resume)");
+  if (auto st = ensureWritableDir(out); !st) return fail(st.error().message);
+  // A fresh bake replaces an earlier database: its index first (a directory
+  // without index.json is an incomplete database), then its keyframe files.
+  std::error_code ec;
+  fs::remove(out + "/index.json", ec);
+  if (!dist.d.resume)
+    for (const auto& f : fs::directory_iterator(out, ec))
+      if (f.path().extension() == ".hwkf") fs::remove(f.path(), ec);
+  std::vector<keyframe::KeyframeDbEntry> entries;
+  Stopwatch sw;
+  if (bench::distributed(dist.d)) {
+    bench::ChunkPlan plan{"bake", work, chunks, bench::chunkCommand(argc, argv)};
+    dist.d.progress = !quiet;
+    if (auto st = bench::runChunks(plan, dist.d); !st) return fail(st.error().message);
+    auto results = bench::readChunkResults(plan);
+    if (!results) return fail(results.error().message);
+    for (const json& r : *results)
+      for (const json& e : r.at("entries")) {
+        keyframe::KeyframeDbEntry x;
+        x.frame = e.at("frame").get<int>();
+        x.file = e.at("file").get<std::string>();
+        x.bytes = e.at("bytes").get<std::uint64_t>();
+        x.checksum = std::stoull(e.at("checksum").get<std::string>(), nullptr, 16);
+        entries.push_back(x);
+      }
+  } else {
+    auto e = session::bakeKeyframes(in->scene, in->path, keys, bo);
+    if (!e) return fail(e.error().message);
+    entries = std::move(*e);
+  }
+  if (auto st = session::writeBakeIndex(out, prov, entries); !st) return fail(st.error().message);
+  if (bench::distributed(dist.d)) bench::removeChunkDir(work);
+  std::uint64_t bytes = 0;
+  for (const auto& e : entries) bytes += e.bytes;
+  std::printf("bake: %zu keyframes of %d frames (%s, %dx%d) in %.1f s, %.1f MB; database %s (index.json)\n",
+              entries.size(), frames, c.scene.c_str(), in->path.width, in->path.height, sw.ms() / 1000.0,
+              bytes / 1e6, out.c_str());
+  return 0;
+}
+
+struct BakeCli {
+  CLI::App* bakeCmd = nullptr;
+  Common bakeC;
+  std::string bakeOut;
+  std::string bakeTau = "2^11";
+  std::string bakeCriterion = "five-point";
+  std::string bakePlanarity = "stencil";
+  double bakeTauPx = 0;
+  bool bakeMerge = false;
+  bool bakeQuiet = false;
+  int bakePerTask = 8;
+  DistributeCli bakeDist;
+  std::string bakeTauGradS = "0";
+};
+
+int run(BakeCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
+    keyframe::LodOptions lo;
+    if (!parseTau(o.bakeTau, &lo.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.bakeTau + "'");
+    lo.tauParallaxPx = o.bakeTauPx;
+    keyframe::parseDeltaCriterion(o.bakeCriterion.c_str(), &lo.criterion);
+    keyframe::parsePlanarity(o.bakePlanarity.c_str(), &lo.planarity);
+    lo.mergeStrips = o.bakeMerge;
+    if (std::string err; !parseTauGradient(o.bakeTauGradS, &lo.tauGradient, &err)) return fail(err);
+    return runBake(o.bakeC, lo, o.bakeOut, o.bakePerTask, o.bakeQuiet, o.bakeDist, argc, argv);
+}
+
+}  // namespace
+
+void addBakeCommand(CLI::App& app, Commands& commands) {
+  auto state = std::make_shared<BakeCli>();
+  BakeCli& o = *state;
+  // bake
+  auto* bakeCmd = o.bakeCmd = app.add_subcommand(
+      "bake", "Render and mesh every keyframe of a path ahead of time into a keyframe database "
+              "(one checksummed file per keyframe + index.json, docs/keyframe-db.md) for "
+              "'walk --keyframes DB'; --slurm runs it as a Slurm job array");
+  addCommon(bakeCmd, o.bakeC);
+  bakeCmd->add_option("--out", o.bakeOut, "Database directory (created)")->required();
+  bakeCmd->add_option("--tau", o.bakeTau, "LOD threshold in z' units, as for walk")->capture_default_str();
+  bakeCmd->add_option("--tau-px", o.bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
+      ->check(CLI::NonNegativeNumber);
+  bakeCmd->add_option("--criterion", o.bakeCriterion, "five-point or per-axis-max, as for walk")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  bakeCmd->add_option("--planarity", o.bakePlanarity, "stencil or region-local, as for walk")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  bakeCmd->add_flag("--merge-strips", o.bakeMerge, "Merge adjacent coplanar leaves, as for walk");
+  bakeCmd->add_option("--tau-gradient", o.bakeTauGradS, tauGradientHelp() + "; as for walk")
+      ->capture_default_str();
+  bakeCmd->add_option("--keyframes-per-task", o.bakePerTask,
+                      "Keyframes per chunk (--slurm array task or --workers process)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  bakeCmd->add_flag("--quiet", o.bakeQuiet, "No progress line");
+  addDistribute(bakeCmd, o.bakeDist, "--keyframes-per-task keyframes");
+
+  commands.push_back({bakeCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+}
+
+}  // namespace hw::app

@@ -1,0 +1,118 @@
+// The `render` command.
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "app/viewer.h"
+#include "session/bake.h"
+#include "bench/bench_suite.h"
+#include "session/export.h"
+#include "core/json_util.h"
+#include "bench/slurm.h"
+#include "session/schedule_calibration.h"
+#include "bench/schedule_oracle.h"
+#include "bench/schedule_study.h"
+#include "bench/stress.h"
+#include "bench/sweep.h"
+#include "session/walk.h"
+#include "report/schedule_plots.h"
+#include "report/walk_plots.h"
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/machine.h"
+#include "core/memory.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_db.h"
+#include "keyframe/keyframe_planner.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/overlay.h"
+#include "scenes/camera_path.h"
+#include "scenes/fetch.h"
+#include "scenes/loader.h"
+#include "scenes/q3bsp.h"
+#include "app/cli_common.h"
+
+namespace hw::app {
+namespace {
+
+using nlohmann::json;
+
+int runRender(const Common& o, const std::string& outDir) {
+  auto in = loadInputs(o);
+  if (!in) return fail(in.error().message);
+  if (auto st = ensureWritableDir(outDir); !st) return fail(st.error().message);
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = depthModeOf(o.depth);
+  auto r = keyframe::GeometryRenderer::create(in->scene, ropt);
+  if (!r) return fail(r.error().message);
+  const int frames = o.frames > 0 ? std::min(o.frames, in->path.frames) : in->path.frames;
+  Image<Rgba8> img;
+  json fr = json::array();
+  std::vector<double> ms;
+  Stopwatch progress, all;
+  for (int i = 0; i < frames; ++i) {
+    keyframe::RenderStats st;
+    if (auto s = (*r)->renderColour(in->path.cameraAt(i), img, &st); !s) return fail(s.error().message);
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.png", i);
+    if (auto s = writePng(outDir + "/" + name, img); !s) return fail(s.error().message);
+    fr.push_back({{"index", i}, {"ms", st.drawMs + st.readbackMs}, {"draw_ms", st.drawMs},
+                  {"readback_ms", st.readbackMs}, {"meshes_drawn", st.meshesDrawn},
+                  {"triangles_drawn", st.trianglesDrawn}});
+    ms.push_back(st.drawMs + st.readbackMs);
+    if (progress.ms() > 1000 || i + 1 == frames) {
+      progress.restart();
+      std::fprintf(stderr, "\rrender: frame %d/%d, ETA %.0f s   %s", i + 1, frames,
+                   all.ms() / 1000.0 / (i + 1) * (frames - i - 1), i + 1 == frames ? "\n" : "");
+    }
+  }
+  json report = {{"frames", fr},
+                 {"summary",
+                  {{"scene", {{"name", in->scene.name}, {"triangles", in->scene.triangleCount()}}},
+                   {"resolution", {in->path.width, in->path.height}},
+                   {"depth_mode", o.depth},
+                   {"ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
+                   {"machine", machineInfo(in->context->renderer(), in->context->version())}}}};
+  if (auto s = writeFileAtomic(outDir + "/render.json", report.dump(1)); !s) return fail(s.error().message);
+  std::printf("rendered %d frames of %s (%zu triangles) at %dx%d: median %.2f ms, p95 %.2f ms\n"
+              "frames and render.json in %s\n",
+              frames, in->scene.name.c_str(), in->scene.triangleCount(), in->path.width,
+              in->path.height, median(ms), percentile(ms, 95), outDir.c_str());
+  return 0;
+}
+
+struct RenderCli {
+  CLI::App* render = nullptr;
+  Common renderC;
+  std::string renderOut = "out/render";
+};
+
+int run(RenderCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
+  return runRender(o.renderC, o.renderOut);
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, Commands& commands) {
+  auto state = std::make_shared<RenderCli>();
+  RenderCli& o = *state;
+  // render
+  auto* render = o.render = app.add_subcommand(
+      "render", "Geometry renderer only: each frame of the path as PNG, plus render.json "
+                "with per-frame times and the scene's triangle count");
+  addCommon(render, o.renderC);
+  render->add_option("--out", o.renderOut, "Output directory")->capture_default_str();
+
+  commands.push_back({render, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+}
+
+}  // namespace hw::app

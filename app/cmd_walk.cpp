@@ -1,0 +1,684 @@
+// The `walk` command.
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "app/viewer.h"
+#include "session/bake.h"
+#include "bench/bench_suite.h"
+#include "session/export.h"
+#include "core/json_util.h"
+#include "bench/slurm.h"
+#include "session/schedule_calibration.h"
+#include "bench/schedule_oracle.h"
+#include "bench/schedule_study.h"
+#include "bench/stress.h"
+#include "bench/sweep.h"
+#include "session/walk.h"
+#include "report/schedule_plots.h"
+#include "report/walk_plots.h"
+#include "core/file_io.h"
+#include "core/gl/context.h"
+#include "core/machine.h"
+#include "core/memory.h"
+#include "core/metrics.h"
+#include "core/timer.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe_db.h"
+#include "keyframe/keyframe_planner.h"
+#include "keyframe/lod_builder.h"
+#include "keyframe/overlay.h"
+#include "scenes/camera_path.h"
+#include "scenes/fetch.h"
+#include "scenes/loader.h"
+#include "scenes/q3bsp.h"
+#include "app/cli_common.h"
+
+namespace hw::app {
+namespace {
+
+using nlohmann::json;
+
+struct WalkCli {
+  CLI::App* walk = nullptr;
+  Common walkC;
+  std::string walkOut = "out/walk";
+  std::string tauS = "2^11";
+  std::string criterion = "five-point";
+  std::string compose = "overlay";
+  std::string texcoords = "projective";
+  std::string planarity = "stencil";
+  bool mergeStrips = false;
+  double tauPx = 0;
+  bool noRef = false;
+  bool saveFrames = false;
+  bool quiet = false;
+  bool noSky = false;
+  std::string layers = "fused";
+  bool noSkipBg = false;
+  bool noSkipPrev = false;
+  double nearDistance = 0;
+  std::string subdivide = "none";
+  std::string primitives = "indexed";
+  bool cullBg = false;
+  int subdivideCell = 16;
+  int strips = 4;
+  std::string tauGradS = "0";
+  std::string walkKeyframes;
+  std::string schedule = "fixed";
+  std::string walkPredictor = "holes+distance";
+  std::string walkPlanBy = "worst";
+  keyframe::PlannerOptions walkPlan;
+  std::string walkTarget = "24";
+  std::string walkCalibrate;
+  std::string walkUncertainty = "auto";
+  double walkCalWindow = 0;
+  int walkVerifyRounds = 0;
+  double walkVerifyOptimism = 1.0;
+  bool asyncKeyframes = false;
+  double keyframeCacheMb = 256;
+  int keyframePrefetch = 2;
+  std::size_t keyframeFlushTriangles = 8192;
+  int keyframeWorkerNice = 0;
+  int keyframeStepsPerFrame = 2;
+  std::string keyframePacing = "time";
+  double keyframeBudgetScale = 2.0;
+  FrameBudgetCli fb;
+  int staleAfter = 2;
+  bool noFramePacing = false;
+  bool pixelAge = false;
+};
+
+int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
+  session::WalkOptions wo;
+  if (!parseTau(o.tauS, &wo.lod.tau))
+    return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tauS + "'");
+  wo.lod.tauParallaxPx = o.tauPx;
+  keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
+  keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
+  wo.lod.mergeStrips = o.mergeStrips;
+  if (std::string err; !parseTauGradient(o.tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
+  gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
+  wo.warp.texcoords = o.texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
+  wo.warp.skyBackdrop = !o.noSky;
+  wo.inBetween.fusedLayers = o.layers == "fused";
+  wo.inBetween.skipBackground = !o.noSkipBg;
+  wo.inBetween.skipPrevious = !o.noSkipPrev;
+  wo.inBetween.nearDistance = o.nearDistance;
+  wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
+                        : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
+                                                  : warp::Subdivision::None;
+  wo.warp.subdivideCellPx = o.subdivideCell;
+  warp::parsePrimitives(o.primitives.c_str(), &wo.warp.primitives);
+  wo.warp.cullBackground = o.cullBg;
+  wo.depthMode = depthModeOf(o.walkC.depth);
+  wo.reference = !o.noRef;
+  wo.saveFrames = o.saveFrames;
+  wo.strips = o.strips;
+  wo.maxFrames = o.walkC.frames;
+  wo.outDir = o.walkOut;
+  wo.progress = !o.quiet;
+  wo.keepFrames = false;  // only the summary is printed; frames go to report.json
+  if (o.schedule == "adaptive" && o.walkPlan.minGap > o.walkPlan.maxGap)
+    return fail("--min-gap " + std::to_string(o.walkPlan.minGap) + " exceeds --max-gap " +
+                std::to_string(o.walkPlan.maxGap));
+  wo.asyncKeyframes = o.asyncKeyframes;
+  wo.keyframeCacheBytes = static_cast<std::size_t>(o.keyframeCacheMb * 1024 * 1024);
+  wo.keyframePrefetch = o.keyframePrefetch;
+  wo.keyframeFlushTriangles = o.keyframeFlushTriangles;
+  wo.keyframeWorkerNice = o.keyframeWorkerNice;
+  wo.keyframeStepsPerFrame = o.keyframeStepsPerFrame;
+  wo.keyframePacing = o.keyframePacing == "time"     ? session::WalkOptions::KeyframePacing::Time
+                     : o.keyframePacing == "slices" ? session::WalkOptions::KeyframePacing::Slices
+                     : o.keyframePacing == "steps"  ? session::WalkOptions::KeyframePacing::Steps
+                                                  : session::WalkOptions::KeyframePacing::None;
+  wo.keyframeBudgetScale = o.keyframeBudgetScale;
+  const bool frameBudgetAuto = o.fb.isAuto();
+  const double frameBudgetMs = o.fb.ms();
+  wo.frameBudgetMs = frameBudgetMs;
+  wo.frameBudgetAuto = frameBudgetAuto;
+  wo.frameBudgetQuantile = o.fb.quantile;
+  wo.frameBudgetWindow = o.fb.window;
+  wo.staleAfter = o.staleAfter;
+  wo.paceFrames = !o.noFramePacing;
+  wo.pixelAge = o.pixelAge;
+  auto in = loadInputs(o.walkC);
+  if (!in) return fail(in.error().message);
+  wo.glRenderer = in->context->renderer();
+  wo.glVersion = in->context->version();
+  if (!o.walkKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
+    auto db = keyframe::KeyframeDb::open(o.walkKeyframes);
+    if (!db) return fail(db.error().message);
+    const int frames = session::bakeFrames(in->path, o.walkC.frames);
+    if (auto st = db->checkMatches(session::bakeProvenance(o.walkC.scene, in->scene.triangleCount(), in->path,
+                                                         frames, wo.lod, wo.depthMode));
+        !st)
+      return fail(st.error().message);
+    wo.keyframeFrames = db->keyframeFrames();
+    wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
+  }
+  if (!o.walkKeyframes.empty() && o.schedule == "adaptive")
+    return fail("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
+  json plannerJson;
+  std::vector<session::PlannedFrame> plannedFrames;  // adaptive: the planner's predictions
+  double plannedTarget = 0;
+  if (o.schedule != "adaptive")  // the calibration options only shape an adaptive plan
+    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty",
+                            "--verify-rounds", "--verify-optimism"})
+      if (o.walk->count(opt) > 0)
+        return fail(std::string(opt) + ": expected --schedule adaptive (it shapes the planned "
+                    "schedule), got --schedule " + o.schedule);
+  if (o.schedule == "adaptive") {
+    keyframe::parsePredictor(o.walkPredictor.c_str(), &o.walkPlan.predictor);
+    keyframe::parsePlanCriterion(o.walkPlanBy.c_str(), &o.walkPlan.criterion);
+    // --target-psnr: dB, or fixed:G (a calibration walk's measured median).
+    int targetSpacing = 0;
+    std::vector<int> calSpacings;
+    if (!o.walkCalibrate.empty()) {
+      if (auto e = parseSpacings(o.walkCalibrate, 0, "", &calSpacings, "--calibrate-spacing"); !e.empty())
+        return fail(e);
+    }
+    if (o.walkTarget.rfind("fixed:", 0) == 0) {
+      const std::string g = o.walkTarget.substr(6);
+      char* end = nullptr;
+      const long v = g.empty() ? 0 : std::strtol(g.c_str(), &end, 10);
+      if (g.empty() || *end != '\0' || v < 2 || v > (1 << 20))
+        return fail("--target-psnr: expected a PSNR in dB or fixed:G with G a whole number of frames >= 2, "
+                    "got '" + o.walkTarget + "'");
+      targetSpacing = static_cast<int>(v);
+      if (std::find(calSpacings.begin(), calSpacings.end(), targetSpacing) == calSpacings.end())
+        calSpacings.push_back(targetSpacing);
+    } else if (!parseFiniteDouble(o.walkTarget, &o.walkPlan.targetPsnrDb)) {
+      return fail("--target-psnr: expected a PSNR in dB or fixed:G with G a whole number of frames >= 2, "
+                  "got '" + o.walkTarget + "'");
+    }
+    // --plan-uncertainty: auto/empirical/normal (from the calibration) or a
+    // standard deviation in dB.
+    double uncertaintyDb = 0;
+    const bool uncertaintyNamed =
+        o.walkUncertainty == "auto" || o.walkUncertainty == "empirical" || o.walkUncertainty == "normal";
+    if (!uncertaintyNamed && (!parseFiniteDouble(o.walkUncertainty, &uncertaintyDb) || uncertaintyDb < 0))
+      return fail("--plan-uncertainty: expected a standard deviation >= 0 in dB, auto, empirical or "
+                  "normal, got '" + o.walkUncertainty + "'");
+    if ((o.walkUncertainty == "empirical" || o.walkUncertainty == "normal") && calSpacings.empty())
+      return fail("--plan-uncertainty " + o.walkUncertainty +
+                  ": expected --calibrate-spacing or --target-psnr fixed:G (the calibration's "
+                  "residuals are its error model), got neither");
+    if (o.walkCalWindow > 0 && calSpacings.empty())
+      return fail("--calibration-window: expected --calibrate-spacing or --target-psnr fixed:G (the "
+                  "window smooths the calibration's residuals), got neither");
+    if (o.walk->count("--verify-optimism") > 0 && o.walkVerifyRounds == 0)
+      return fail("--verify-optimism: expected --verify-rounds 1 or more (it shapes the verified "
+                  "plan's search), got --verify-rounds 0");
+    if (o.walkVerifyRounds > 0 && calSpacings.empty())
+      return fail("--verify-rounds: expected --calibrate-spacing or --target-psnr fixed:G (the "
+                  "verified plan starts from the calibration's measured segments), got neither");
+    if (o.walkVerifyRounds > 0 && o.walkPlan.criterion != keyframe::PlanCriterion::WalkMedian)
+      return fail("--verify-rounds: expected --plan-by walk-median (it counts measured frames "
+                  "against the walk's median), got --plan-by " + o.walkPlanBy);
+    std::string uncertaintyModel = uncertaintyDb > 0 ? "normal" : "none";
+    keyframe::MeasuredSegments measured;  // the calibration walks' segments
+    keyframe::RenderOptions ropt;
+    ropt.depthMode = wo.depthMode;
+    auto probeRenderer = keyframe::GeometryRenderer::create(in->scene, ropt);
+    if (!probeRenderer) return fail(probeRenderer.error().message);
+    const int frames = wo.maxFrames > 0 ? std::min(wo.maxFrames, in->path.frames) : in->path.frames;
+    const auto cameraOf = [&](int i) { return in->path.cameraAt(i); };
+    keyframe::KeyframeProbe probe(**probeRenderer, cameraOf, o.walkPlan.probeSize, o.walkPlan.probeError);
+    json calibrationJ = nullptr;
+    std::string targetSource = "given";
+    for (int g : calSpacings)
+      if (g < 2 || g > frames - 1)
+        return fail(std::string(g == targetSpacing ? "--target-psnr fixed:G" : "--calibrate-spacing") +
+                    ": a calibration walk needs keyframes 2.." + std::to_string(frames - 1) +
+                    " frames apart on this " + std::to_string(frames) + "-frame walk, got " +
+                    std::to_string(g));
+    if (!calSpacings.empty()) {
+      Stopwatch calSw;
+      auto cal = session::runCalibrationWalks(in->scene, o.walkC.scene, in->path, frames, calSpacings, wo,
+                                            !o.quiet);
+      if (!cal) return fail(cal.error().message);
+      measured = cal->measured;
+      auto fit = keyframe::calibratePredictor(probe, o.walkPlan.predictor, cal->samples);
+      if (!fit) return fail(fit.error().message);
+      o.walkPlan.useDefaultFit = false;
+      o.walkPlan.fit = fit->fit;
+      // The residuals the error model takes: the fit's, or with a window what
+      // is left after the path offsets (each sample's offset computed without
+      // its own calibration segment, as for a segment the calibration did not
+      // walk).
+      std::vector<double> residuals;
+      std::vector<int> sampleFrames, sampleSegment;  // segment: held out together
+      for (std::size_t i = 0; i < cal->samples.size(); ++i) {
+        const auto& c = cal->samples[i];
+        residuals.push_back(c.psnrDb - fit->predictedDb[i]);
+        sampleFrames.push_back(c.frame);
+        const bool same = i > 0 && cal->spacing[i] == cal->spacing[i - 1] && c.k0 == cal->samples[i - 1].k0;
+        sampleSegment.push_back(i == 0 ? 0 : sampleSegment.back() + (same ? 0 : 1));
+      }
+      double residualSd = fit->residualStdDb;
+      json windowJ = nullptr;
+      if (o.walkCalWindow > 0) {
+        auto offsets =
+            keyframe::smoothResidualsAlongPath(frames, sampleFrames, residuals, o.walkCalWindow, 2.0, sampleSegment);
+        o.walkPlan.frameOffsetDb = offsets.offsetDb;
+        residuals = offsets.heldOutResidualsDb;
+        residualSd = offsets.heldOutRmsDb;
+        const auto [lo, hi] = std::minmax_element(offsets.offsetDb.begin(), offsets.offsetDb.end());
+        windowJ = {{"frames", o.walkCalWindow},
+                   {"prior_samples", 2.0},
+                   {"held_out_residual_rms_db", residualSd},
+                   {"offset_min_db", lo == offsets.offsetDb.end() ? 0.0 : *lo},
+                   {"offset_max_db", hi == offsets.offsetDb.end() ? 0.0 : *hi}};
+      }
+      if (o.walkUncertainty == "normal") {
+        uncertaintyDb = residualSd;
+        uncertaintyModel = "normal";
+      } else if (o.walkUncertainty == "empirical" || o.walkUncertainty == "auto") {
+        o.walkPlan.error.setResiduals(std::move(residuals));
+        uncertaintyDb = residualSd;
+        uncertaintyModel = "empirical";
+      }
+      for (const auto& w : cal->walks)
+        if (w.spacing == targetSpacing) {
+          if (!std::isfinite(w.psnrMedian))
+            return fail("--target-psnr fixed:" + std::to_string(targetSpacing) +
+                        ": the calibration walk has no finite PSNR median");
+          o.walkPlan.targetPsnrDb = w.psnrMedian;
+          targetSource = "fixed:" + std::to_string(targetSpacing);
+        }
+      if (auto st = ensureWritableDir(o.walkOut); !st) return fail(st.error().message);
+      if (auto st = report::writeCalibration(o.walkOut, *cal, *fit, o.walkPlan.predictor, o.walkPlan.frameOffsetDb);
+          !st)
+        return fail(st.error().message);
+      calibrationJ = session::calibrationJson(*cal, *fit);
+      calibrationJ["window"] = windowJ;
+      calibrationJ["ms"] = calSw.ms();
+      std::fprintf(stderr, "calibrated %s on %d in-between frames: residual sd %.2f dB, Spearman %.3f",
+                   o.walkPredictor.c_str(), fit->samples, fit->residualStdDb, fit->spearman);
+      if (o.walkCalWindow > 0)
+        std::fprintf(stderr, "; along the path (%g frames): %.2f dB left", o.walkCalWindow, residualSd);
+      if (targetSpacing > 0)
+        std::fprintf(stderr, "; target %.2f dB (%s)", o.walkPlan.targetPsnrDb, targetSource.c_str());
+      std::fprintf(stderr, "\n");
+    }
+    if (uncertaintyModel == "normal") o.walkPlan.error.sigmaDb = uncertaintyDb;
+    auto plan = keyframe::planAdaptiveSchedule(probe, frames, o.walkPlan);
+    if (!plan) return fail(plan.error().message);
+    wo.keyframeFrames = plan->keyframes;
+    json verifyJ = nullptr;
+    if (o.walkVerifyRounds > 0) {
+      Stopwatch vsw;
+      Status failure;
+      const keyframe::PsnrFit fitUsed = plan->fit;
+      const keyframe::FramePredictor raw = [&](int k0, int k1, int f) {
+        if (!failure.ok()) return -std::numeric_limits<double>::infinity();
+        auto ft = keyframe::predictorFeatures(probe, o.walkPlan.predictor, k0, k1, f);
+        if (!ft) {
+          failure = ft.error();
+          return -std::numeric_limits<double>::infinity();
+        }
+        return keyframe::predictPsnr(fitUsed, *ft, o.walkPlan.predictor);
+      };
+      keyframe::PlanSearch search;
+      search.minGap = o.walkPlan.minGap;
+      search.maxGap = o.walkPlan.maxGap;
+      search.error = o.walkPlan.error;
+      keyframe::VerifyOptions verifyOpt;
+      verifyOpt.maxRounds = o.walkVerifyRounds;
+      verifyOpt.windowFrames = o.walkCalWindow;
+      verifyOpt.empiricalError = uncertaintyModel == "empirical";
+      verifyOpt.optimismDb = o.walkVerifyOptimism;
+      int round = 0;
+      const auto measure = [&](const std::vector<std::pair<int, int>>& segs,
+                               keyframe::MeasuredSegments& out) {
+        int n = 0;
+        for (const auto& sg : segs) n += sg.second - sg.first - 1;
+        ++round;
+        if (!o.quiet)
+          std::fprintf(stderr,
+                       "verify round %d/%d: walking %zu planned segments (%d in-between frames)\n",
+                       round, o.walkVerifyRounds, segs.size(), n);
+        return session::measureSegments(in->scene, o.walkC.scene, in->path, frames, segs, wo, out);
+      };
+      const std::size_t before = measured.size();
+      auto v = keyframe::planVerified(frames, o.walkPlan.targetPsnrDb, search, raw, measured, measure,
+                                      verifyOpt);
+      if (!failure.ok()) return fail(failure.error().message);
+      if (!v) return fail(v.error().message);
+      wo.keyframeFrames = v->keyframes;
+      o.walkPlan.frameOffsetDb = v->offsetDb;
+      int referenceKeyframes = 0;
+      if (targetSpacing > 0)
+        referenceKeyframes = static_cast<int>(
+            keyframe::KeyframeSchedule{frames, targetSpacing, {}}.keyframes().size());
+      const std::string referenceLabel = "fixed every " + std::to_string(targetSpacing) + " frames";
+      if (auto st = report::writeVerifyPlot(o.walkOut, *v, referenceKeyframes, referenceLabel); !st)
+        return fail(st.error().message);
+      json rounds = json::array();
+      int framesMeasured = 0;
+      for (const auto& r : v->rounds) {
+        framesMeasured += r.framesMeasured;
+        rounds.push_back({{"keyframes", r.keyframes}, {"unmeasured_segments", r.unmeasured},
+                          {"frames_measured", r.framesMeasured},
+                          {"guaranteed_keyframes", r.guaranteedKeyframes},
+                          {"held_out_residual_rms_db", r.heldOutRmsDb}});
+      }
+      verifyJ = {{"max_rounds", o.walkVerifyRounds},
+                 {"optimism_db", o.walkVerifyOptimism},
+                 {"rounds", rounds},
+                 {"converged", v->converged},
+                 {"median_guaranteed", v->guaranteed},
+                 {"planned_keyframes", plan->keyframes.size()},
+                 {"keyframes", v->keyframes.size()},
+                 {"good_frames", v->guaranteed ? json(v->good) : json(nullptr)},
+                 {"frames_measured", framesMeasured},
+                 {"segments_measured", measured.size() - before},
+                 {"ms", vsw.ms()}};
+      std::fprintf(stderr,
+                   "verified: %zu keyframes (planned %zu) after %zu rounds, %d in-between frames "
+                   "measured in %.0f ms; %s\n",
+                   v->keyframes.size(), plan->keyframes.size(), v->rounds.size() - 1,
+                   framesMeasured, vsw.ms(),
+                   v->guaranteed ? "its median guaranteed by measured frames"
+                                 : "no guaranteed schedule: the last plan, its median predicted");
+    }
+    auto predicted = session::predictSchedule(probe, o.walkPlan.predictor, plan->fit, wo.keyframeFrames,
+                                            o.walkPlan.frameOffsetDb);
+    if (!predicted) return fail(predicted.error().message);
+    plannedFrames = std::move(*predicted);
+    plannedTarget = o.walkPlan.targetPsnrDb;
+    plannerJson = {{"predictor", o.walkPredictor}, {"criterion", o.walkPlanBy},
+                   {"target_psnr", o.walkPlan.targetPsnrDb},
+                   {"target_source", targetSource},
+                   {"uncertainty", uncertaintyModel},
+                   {"uncertainty_db", uncertaintyDb},
+                   {"calibration", calibrationJ},
+                   {"min_gap", o.walkPlan.minGap}, {"max_gap", o.walkPlan.maxGap},
+                   {"probe_size", o.walkPlan.probeSize},
+                   {"candidate_stride", o.walkPlan.candidateStride},
+                   {"frames_per_segment", o.walkPlan.framesPerSegment},
+                   {"fit", session::fitJson(plan->fit)},
+                   {"plan_ms", plan->planMs}, {"probe_render_ms", plan->probeRenderMs},
+                   {"probes", plan->probes}, {"evaluations", plan->evaluations},
+                   {"verify", verifyJ}};
+    std::fprintf(stderr, "planned %zu keyframes for %d frames in %.0f ms (%d probes, %.0f ms rendering them)\n",
+                 plan->keyframes.size(), frames, plan->planMs, plan->probes, plan->probeRenderMs);
+  }
+  auto res = session::runWalk(in->scene, o.walkC.scene, in->path, wo);
+  if (!res) return fail(res.error().message);
+  if (!wo.outDir.empty())
+    if (auto st = report::writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, o.walkC.scene); !st)
+      return fail(st.error().message);
+  if (!plannerJson.is_null()) {
+    // The planner's settings and cost go into the report's summary.
+    auto text = readFile(o.walkOut + "/report.json");
+    if (!text) return fail(text.error().message);
+    json report = json::parse(*text, nullptr, false);
+    if (report.is_discarded()) return fail("cannot parse " + o.walkOut + "/report.json");
+    report["summary"]["keyframe_schedule"] = "adaptive";
+    auto predMedian = report::writePlannedFrames(o.walkOut, plannedFrames, report["frames"], plannedTarget,
+                                                report["summary"]["keyframe_frames"].get<std::vector<int>>());
+    if (!predMedian) return fail(predMedian.error().message);
+    plannerJson["predicted_psnr_median"] = std::isfinite(*predMedian) ? json(*predMedian) : json(nullptr);
+    report["summary"]["planner"] = plannerJson;
+    if (auto st = writeFileAtomic(o.walkOut + "/report.json", report.dump(1)); !st)
+      return fail(st.error().message);
+  }
+  const json& s = res->report["summary"];
+  auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
+  std::printf(
+      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes, %s schedule), tau %s, %s\n"
+      "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
+      "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
+      "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
+      "  every frame (%s keyframes) %.2f ms median, p95 %.2f (p95/median %.2f); "
+      "%d keyframe stalls, %.1f ms waited\n",
+      o.walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
+      s["frames"].get<int>(), s["keyframes"].get<int>(), o.schedule.c_str(), o.tauS.c_str(),
+      s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
+      num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
+      100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),
+      num(s["in_between_ms"]["median"]), num(s["in_between_ms"]["p95"]),
+      num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]),
+      s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
+      num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
+      s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
+  if (frameBudgetAuto)
+    std::printf("  frame budget auto: p%.0f of the last %d in-between frames' work, median %.1f ms\n",
+                o.fb.quantile * 100, o.fb.window, num(s["frame_budget_ms"]));
+  if (frameBudgetMs > 0 || frameBudgetAuto)
+    std::printf(
+        "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "
+        "pixels median %.0f; presented interval %.2f ms median, p95/median %.2f (work %.2f); "
+        "%d frames over budget\n",
+        num(s["frame_budget_ms"]), s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
+        num(s["refresh_ms"]["median"]), num(s["stale_pixels"]["median"]),
+        num(s["frame_interval_ms"]["median"]), num(s["frame_interval_ms_p95_over_median"]),
+        num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());
+  std::printf("report: %s/report.json\n", o.walkOut.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addWalkCommand(CLI::App& app, Commands& commands) {
+  auto state = std::make_shared<WalkCli>();
+  WalkCli& o = *state;
+  // walk
+  auto* walk = o.walk = app.add_subcommand(
+      "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
+              "geometry renderer; writes report.json, strips and (optionally) frames");
+  addCommon(walk, o.walkC);
+  walk->add_option("--tau", o.tauS,
+                   "LOD threshold on |Δ²z'| in z' units (2^24 scale); '2^11' or '2048' form")
+      ->capture_default_str();
+  walk->add_option("--tau-px", o.tauPx,
+                   "Physical threshold instead of --tau: parallax error in pixels per scene unit "
+                   "of camera motion (same meaning indoors and out); 0 = use --tau")
+      ->check(CLI::NonNegativeNumber);
+  walk->add_option("--criterion", o.criterion,
+                   "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  walk->add_option("--planarity", o.planarity,
+                   "Planarity test: stencil (paper: Δ² stencils reach across region borders) or "
+                   "region-local (second differences only inside the region; no one-pixel strips "
+                   "along edges)")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  walk->add_flag("--merge-strips", o.mergeStrips,
+                 "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger quads");
+  walk->add_option("--tau-gradient", o.tauGradS, tauGradientHelp())->capture_default_str();
+  walk->add_option("--compose", o.compose,
+                   "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
+                   "(per-pixel nearer of the two layers)")
+      ->check(CLI::IsMember({"overlay", "depth-merge"}))
+      ->capture_default_str();
+  walk->add_option("--texcoords", o.texcoords,
+                   "Warp texture mapping: projective (exact for planar quads) or affine "
+                   "(plain perspective-correct s,t; for comparison)")
+      ->check(CLI::IsMember({"projective", "affine"}))
+      ->capture_default_str();
+  walk->add_flag("--no-sky-backdrop", o.noSky,
+                 "Do not draw empty keyframe pixels (sky) as a backdrop at infinity; they then "
+                 "count as holes, as in the paper");
+  walk->add_option("--layers", o.layers,
+                   "How the two warped layers are composed (overlay rule): fused (one render "
+                   "target, background drawn only where the foreground left pixels empty, one "
+                   "readback) or separate (the paper's two layers read back and composed on the "
+                   "CPU). Depth-merge always uses separate")
+      ->check(CLI::IsMember({"fused", "separate"}))
+      ->capture_default_str();
+  walk->add_flag("--no-skip-background", o.noSkipBg,
+                 "Draw the background layer even when the foreground covers every pixel "
+                 "(default: a coverage test skips it; the frame is identical)");
+  walk->add_flag("--no-skip-previous", o.noSkipPrev,
+                 "Run the previous-frame fill even when the layers leave no holes");
+  walk->add_option("--near", o.nearDistance,
+                   "Draw objects near the viewpoint directly (paper §3): meshes whose bounds come "
+                   "within this distance (scene units, e.g. metres) of a keyframe's eye are left "
+                   "out of that keyframe and rendered as geometry into the frames that use it; "
+                   "0 = off")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  walk->add_option("--subdivide", o.subdivide,
+                   "Cut large quads into cells at upload (paper §2.1): none, uniform (every quad, "
+                   "the paper's), adaptive (only quads whose corner depths differ by 1.5x or whose "
+                   "pixels leave their plane by > 0.2 %); interior cell corners follow the "
+                   "keyframe depth")
+      ->check(CLI::IsMember({"none", "uniform", "adaptive"}))
+      ->capture_default_str();
+  walk->add_option("--primitives", o.primitives,
+                   "How quads are drawn (same pixels, different vertex work): independent (6 "
+                   "vertices per quad), indexed (4 vertices + 6 indices), shared (indexed, corners "
+                   "identical between neighbouring quads stored once), points (indexed, 1x1 "
+                   "leaves as one GL point each, sized to their footprint; not pixel-identical)")
+      ->check(CLI::IsMember({"independent", "indexed", "shared", "points"}))
+      ->capture_default_str();
+  walk->add_flag("--cull-background", o.cullBg,
+                 "Leave out background quads whose surfaces the foreground keyframe sees (they "
+                 "mostly land under foreground pixels; lossy: cracks along edges then come from "
+                 "the previous frame). Needs --primitives indexed or shared");
+  walk->add_option("--subdivide-cell", o.subdivideCell, "Cell size for --subdivide, keyframe pixels")
+      ->check(CLI::Range(2, 4096))
+      ->capture_default_str();
+  walk->add_flag("--no-reference", o.noRef,
+                 "Skip the geometry reference render (no PSNR/SSIM; faster)");
+  walk->add_flag("--save-frames", o.saveFrames, "Write every frame and hole mask as PNG");
+  walk->add_option("--strips", o.strips,
+                   "Number of reference|hybrid|diff×4|holes strips to write")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+  walk->add_option("--out", o.walkOut, "Output directory")->capture_default_str();
+  walk->add_flag("--quiet", o.quiet, "No progress line");
+  walk->add_option("--keyframes", o.walkKeyframes,
+                   "Read keyframes and quad meshes from this database (written by 'hybridwalk bake' "
+                   "with the same scene, path, --frames, --depth and LOD options) instead of rendering "
+                   "them; the next keyframe is read ahead on a background thread");
+  walk->add_option("--schedule", o.schedule,
+                   "Keyframes: fixed (every keyframe_every frames of the path) or adaptive "
+                   "(error-driven: planned ahead along the path, a new keyframe where the "
+                   "predictor says an in-between frame would fall below --target-psnr)")
+      ->check(CLI::IsMember({"fixed", "adaptive"}))
+      ->capture_default_str();
+  walk->add_option("--target-psnr", o.walkTarget,
+                   "Adaptive schedule: the in-between PSNR to reach, dB, as --plan-by says (predicted; "
+                   "the predictor's default fit comes from the built-in indoor scene at 512x512, so "
+                   "on other scenes the dB are only ordered, unless --calibrate-spacing refits it "
+                   "here), or fixed:G = the measured median of the calibration walk with keyframes "
+                   "every G frames (G is added to --calibrate-spacing)")
+      ->capture_default_str();
+  walk->add_option("--calibrate-spacing", o.walkCalibrate,
+                   "Adaptive schedule: first walk the path with keyframes every G frames (a "
+                   "comma-separated list, e.g. 20 or 10,20; each a full walk with reference "
+                   "frames, no output), refit the predictor to their measured in-between PSNRs, "
+                   "and plan with that fit: the target is then in measured dB of this scene, "
+                   "path and resolution. Writes calibration.csv and calibration.png. Empty = the "
+                   "default fit")
+      ->capture_default_str();
+  walk->add_option("--plan-uncertainty", o.walkUncertainty,
+                   "Adaptive schedule, --plan-by walk-median: the predictor's error model; each "
+                   "in-between frame counts as its probability of reaching the target instead of "
+                   "0 or 1. empirical = the calibration frames' residuals (measured - predicted) "
+                   "as the error distribution; normal = a normal error with their standard "
+                   "deviation; a number = a normal error of that standard deviation, dB (0 = the "
+                   "plain count); auto = empirical with --calibrate-spacing, else 0")
+      ->capture_default_str();
+  walk->add_option("--calibration-window", o.walkCalWindow,
+                   "Adaptive schedule with --calibrate-spacing: also correct each frame's "
+                   "prediction by the calibration residuals near it along the path (a Gaussian "
+                   "of this many frames standard deviation, shrunk toward 0 by 2 samples' "
+                   "weight; the error model then takes the residuals left, each calibration "
+                   "segment's computed without its own samples), frames; 0 = off")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  walk->add_option("--verify-rounds", o.walkVerifyRounds,
+                   "Adaptive schedule, --plan-by walk-median, with a calibration: measure what the "
+                   "plan picks. Each round walks the planned segments not measured yet (at this "
+                   "resolution, with reference frames, no output), counts their frames exactly, "
+                   "corrects the predictions near them (--calibration-window) and plans again, "
+                   "aiming one keyframe below the best schedule whose median measured frames "
+                   "alone guarantee; it stops when the plan is all measured, needs no fewer "
+                   "keyframes, or the rounds run out. The walk runs that guaranteed schedule "
+                   "(its median is at least the target); verify.png shows the rounds. Rounds, "
+                   "0 = off")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  walk->add_option("--verify-optimism", o.walkVerifyOptimism,
+                   "With --verify-rounds: added to the unmeasured frames' predictions while "
+                   "searching, dB, so segments that may beat their prediction get measured too; "
+                   "costs measuring rounds, never the target (the schedule walked is guaranteed by "
+                   "measured frames). 1 dB reached the fewest keyframes on all four 512x512 paths "
+                   "measured, 0.5 dB on two (docs/results/2026-12-02/verified_plan)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  addPlannerOptions(walk, o.walkPlan, o.walkPredictor, o.walkPlanBy, false);
+  walk->add_flag("--async-keyframes", o.asyncKeyframes,
+                 "Render and mesh keyframes ahead of need on a worker thread with a second "
+                 "OSMesa context (frames are identical; only their timing changes)");
+  walk->add_option("--keyframe-cache-mb", o.keyframeCacheMb,
+                   "Memory bound of the keyframe cache in MiB (colour + depth + quad mesh; the "
+                   "two keyframes of the current bracket are always kept)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  walk->add_option("--keyframe-prefetch", o.keyframePrefetch,
+                   "With --async-keyframes: keyframes past the current pair built ahead")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  walk->add_option("--keyframe-flush-triangles", o.keyframeFlushTriangles,
+                   "With --async-keyframes: the worker flushes its keyframe render after about "
+                   "this many triangles, so frames on the main context wait behind one piece of "
+                   "it on llvmpipe's shared rasteriser threads (0 = one flush)")
+      ->capture_default_str();
+  walk->add_option("--keyframe-pacing", o.keyframePacing,
+                   "With --async-keyframes: how the worker spreads a keyframe over the frames "
+                   "before its need: time (each frame allows budget-scale x last build ms / frames "
+                   "per keyframe of worker time, alongside the frame), slices (the same budget, "
+                   "run at the end of each frame while the frame waits: the two never share the "
+                   "CPUs; counted in the frame's time), steps (--keyframe-steps-per-frame steps "
+                   "per frame) or none (as fast as it can); lifted while a frame waits")
+      ->check(CLI::IsMember({"time", "slices", "steps", "none"}))
+      ->capture_default_str();
+  walk->add_option("--keyframe-budget-scale", o.keyframeBudgetScale,
+                   "With --keyframe-pacing time or slices: the worker's time per frame as a multiple of its "
+                   "even share (> 1 lets it get ahead)")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  walk->add_option("--keyframe-steps-per-frame", o.keyframeStepsPerFrame,
+                   "With --keyframe-pacing steps: worker steps (a flushed piece of the render, the "
+                   "readback, a mesh-build step) per frame")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  walk->add_option("--keyframe-worker-nice", o.keyframeWorkerNice,
+                   "With --async-keyframes: nice increment of the worker thread (0-19)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
+  addFrameBudgetOptions(walk, o.fb,
+                        "with time left after an in-between frame is composed, the region of "
+                        "pixels carried over from earlier frames longest is re-rendered by the "
+                        "geometry renderer if its estimated cost fits, and frames are presented "
+                        "every this many ms");
+  walk->add_option("--stale-after", o.staleAfter,
+                   "With --frame-budget-ms: frames a pixel must have been carried over from the "
+                   "previous frame before it counts for a refresh (at least 1)")
+      ->check(wholeFrames(1, 255, "stale after"))
+      ->capture_default_str();
+  walk->add_flag("--no-frame-pacing", o.noFramePacing,
+                 "With --frame-budget-ms: refresh within the budget but do not wait for it to "
+                 "pass before the next frame");
+  walk->add_flag("--pixel-age", o.pixelAge,
+                 "Track and report per-pixel age (frames carried over from the previous frame) "
+                 "without a budget (always on with --frame-budget-ms); frames are identical");
+
+  commands.push_back({walk, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+}
+
+}  // namespace hw::app
