@@ -240,9 +240,9 @@ void addCommon(CLI::App* c, Common& o) {
                 "COLLADA, AC3D, .blend, ...)")
       ->capture_default_str();
   c->add_option("--path", o.path,
-                "Camera path JSON (DESIGN.md format: width, height, fov_y_deg, near, far, up, "
+                "Camera path JSON (docs/camera-path.md: width, height, fov_y_deg, near, far, up, "
                 "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
-                "scene's built-in path");
+                "scene's built-in path ('hybridwalk path --scene S' prints it)");
   c->add_option("--depth", o.depth,
                 "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
                 "far/near 1e5..1e6), fixed24 (the paper's 24-bit z-buffer), float32; all mapped "
@@ -251,6 +251,21 @@ void addCommon(CLI::App* c, Common& o) {
       ->capture_default_str();
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  const CLI::Validator size(
+      [](std::string& v) -> std::string {
+        char* end = nullptr;
+        const long x = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || (x != 0 && (x < 16 || x > 16384)))
+          return "expected 0 (the path's) or 16 to 16384 pixels, got '" + v + "'";
+        return {};
+      },
+      "PIXELS", "frame size");
+  c->add_option("--width", o.width, "Frame width, pixels (0 = the camera path's)")
+      ->check(size)
+      ->capture_default_str();
+  c->add_option("--height", o.height, "Frame height, pixels (0 = the camera path's)")
+      ->check(size)
       ->capture_default_str();
 }
 
@@ -276,6 +291,8 @@ Result<Loaded> loadInputs(const Common& o) {
     if (!p) return p.error();
     l.path = std::move(*p);
   }
+  if (o.width > 0) l.path.width = o.width;
+  if (o.height > 0) l.path.height = o.height;
   auto ctx = gl::createHeadlessContext();
   if (!ctx) return ctx.error();
   l.context = std::move(*ctx);

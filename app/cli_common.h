@@ -46,7 +46,8 @@ struct Common {
   std::string scene = "indoor";
   std::string path;  // empty: the scene's default path
   std::string depth = depthModeName(kDefaultDepthMode);
-  int frames = 0;
+  int frames = 0;  // stop after this many frames (0 = all)
+  int width = 0, height = 0;  // frame size, pixels (0 = the path's)
 };
 
 // --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window

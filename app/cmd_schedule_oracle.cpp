@@ -55,8 +55,6 @@ struct ScheduleOracleCli {
   bool oracleQuiet = false;
   int oracleRef = 10;
   int oracleMaxGap = 20;
-  int oracleWidth = 0;
-  int oracleHeight = 0;
   std::string oracleTable;
   bool oracleNoPlanner = false;
   bench::ScheduleOracleOptions oracleDefaults;
@@ -74,8 +72,6 @@ int run(ScheduleOracleCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char**
     if (std::find(so.fixedSpacings.begin(), so.fixedSpacings.end(), o.oracleRef) == so.fixedSpacings.end())
       return fail("--reference-spacing: expected one of --spacings '" + o.oracleSpacings + "', got " +
                   std::to_string(o.oracleRef));
-    if ((o.oracleWidth > 0 && o.oracleWidth < 16) || (o.oracleHeight > 0 && o.oracleHeight < 16))
-      return fail("--width/--height: expected 0 (the path's) or at least 16 pixels");
     if (std::string e = applyStudyLod(o.oracleLod, &so.walk.lod); !e.empty()) return fail(e);
     so.walk.depthMode = depthModeOf(o.oracleC.depth);
     so.walk.maxFrames = o.oracleC.frames;
@@ -91,8 +87,6 @@ int run(ScheduleOracleCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char**
     so.progress = !o.oracleQuiet;
     auto in = loadInputs(o.oracleC);
     if (!in) return fail(in.error().message);
-    if (o.oracleWidth > 0) in->path.width = o.oracleWidth;
-    if (o.oracleHeight > 0) in->path.height = o.oracleHeight;
     so.walk.glRenderer = in->context->renderer();
     so.walk.glVersion = in->context->version();
     auto res = bench::runScheduleOracle(in->scene, o.oracleC.scene, in->path, so);
@@ -142,12 +136,6 @@ void addScheduleOracleCommand(CLI::App& app, Commands& commands) {
   oracleCmd->add_option("--reference-spacing", o.oracleRef,
                         "Fixed spacing the headline compares with, frames (one of --spacings)")
       ->check(CLI::Range(1, 60))
-      ->capture_default_str();
-  oracleCmd->add_option("--width", o.oracleWidth, "Frame width, pixels (0 = the path's)")
-      ->check(CLI::Range(0, 8192))
-      ->capture_default_str();
-  oracleCmd->add_option("--height", o.oracleHeight, "Frame height, pixels (0 = the path's)")
-      ->check(CLI::Range(0, 8192))
       ->capture_default_str();
   oracleCmd->add_option("--table", o.oracleTable,
                         "Score from an earlier run's segments.csv instead of walking (same scene, "

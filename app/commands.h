@@ -27,5 +27,6 @@ void addStressCommand(CLI::App& app, Commands& commands);
 void addScheduleStudyCommand(CLI::App& app, Commands& commands);
 void addScheduleOracleCommand(CLI::App& app, Commands& commands);
 void addScenesCommand(CLI::App& app, Commands& commands);
+void addPathCommand(CLI::App& app, Commands& commands);
 
 }  // namespace hw::app

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   addScheduleStudyCommand(app, commands);
   addScheduleOracleCommand(app, commands);
   addScenesCommand(app, commands);
+  addPathCommand(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&
