@@ -1,11 +1,13 @@
 #include "app/cli_common.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 
+#include "core/check.h"
 #include "core/gl/context.h"
 #include "core/timer.h"
 #include "scenes/loader.h"
@@ -328,6 +330,40 @@ void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
   c->add_option("--chunk", o.chunk, "internal: run one chunk")->group("");
+}
+
+std::string GroupedHelp::make_help(const CLI::App* app, std::string name,
+                                   CLI::AppFormatMode mode) const {
+  if (mode == CLI::AppFormatMode::Sub) return make_expanded(app);
+  static const std::vector<std::string> kOrder = {"Essentials", "Options",  "Level of detail",
+                                                  "Composition", "Keyframes", "Timing",
+                                                  "Studies"};
+  std::vector<std::string> groups;
+  for (const std::string& g : kOrder) groups.push_back(g);
+  for (const std::string& g : app->get_groups())
+    if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+  std::string out = make_description(app) + make_usage(app, name) + make_positionals(app);
+  bool first = true;
+  for (const std::string& g : groups) {
+    auto opts = app->get_options([&g](const CLI::Option* o) {
+      return o->get_group() == g && o->nonpositional();
+    });
+    if (g.empty() || opts.empty()) continue;
+    if (!first) out += "\n";
+    first = false;
+    out += make_group(g, false, opts);
+  }
+  return out + make_subcommands(app, mode) + "\n" + make_footer(app);
+}
+
+void setGroups(CLI::App* c,
+               const std::vector<std::pair<std::string, std::vector<std::string>>>& groups) {
+  for (const auto& [group, names] : groups)
+    for (const std::string& n : names) {
+      CLI::Option* o = n == "--help" ? c->get_help_ptr() : c->get_option_no_throw(n);
+      HW_CHECK(o != nullptr);
+      o->group(group);
+    }
 }
 
 }  // namespace hw::app

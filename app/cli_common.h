@@ -93,4 +93,16 @@ Result<Loaded> loadInputs(const Common& o);
 DepthMode depthModeOf(const std::string& s);
 void addDistribute(CLI::App* c, DistributeCli& o, const char* unit);
 
+// --help with the option groups in a fixed order: Essentials, Options, Level of
+// detail, Composition, Keyframes, Timing, Studies (then any other). Set on the
+// top-level app before its subcommands are added; they inherit it.
+class GroupedHelp : public CLI::Formatter {
+ public:
+  std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override;
+};
+// Puts each named option (long name, e.g. "--tau") of `c` into its group;
+// "--help" may be named too. A name `c` does not have is our bug (checked).
+void setGroups(CLI::App* c,
+               const std::vector<std::pair<std::string, std::vector<std::string>>>& groups);
+
 }  // namespace hw::app

@@ -678,6 +678,25 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                  "Track and report per-pixel age (frames carried over from the previous frame) "
                  "without a budget (always on with --frame-budget-ms); frames are identical");
 
+  setGroups(walk, {{"Essentials", {"--help", "--scene", "--path", "--out", "--save-frames", "--width",
+                                   "--height", "--frames", "--strips", "--quiet", "--no-reference"}},
+                   {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
+                                        "--merge-strips", "--tau-gradient", "--depth", "--subdivide",
+                                        "--subdivide-cell", "--primitives"}},
+                   {"Composition", {"--compose", "--layers", "--near", "--texcoords",
+                                    "--no-sky-backdrop", "--no-skip-background",
+                                    "--no-skip-previous", "--cull-background"}},
+                   {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",
+                                  "--keyframe-cache-mb", "--keyframe-prefetch", "--keyframe-pacing",
+                                  "--keyframe-budget-scale"}},
+                   {"Timing", {"--frame-budget-ms", "--frame-budget-quantile",
+                               "--frame-budget-window", "--stale-after", "--no-frame-pacing",
+                               "--pixel-age"}},
+                   {"Studies", {"--calibrate-spacing", "--plan-uncertainty", "--calibration-window",
+                                "--verify-rounds", "--verify-optimism", "--plan-by", "--min-gap",
+                                "--max-gap", "--probe-size", "--candidate-stride",
+                                "--frames-per-segment", "--predictor", "--keyframe-flush-triangles",
+                                "--keyframe-steps-per-frame", "--keyframe-worker-nice"}}});
   commands.push_back({walk, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }
 

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "app/cli_common.h"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
       "keyframes is backward-warped from their level-of-detail quad meshes.\nUnits: distances "
       "are the scene's; tau is in z' units of the 24-bit depth buffer (2^24 scale, eq. 2; the "
       "paper uses 2^11 and 2^15); times in ms."};
+  app.formatter(std::make_shared<GroupedHelp>());
   app.require_subcommand(1);
   app.set_version_flag("--version", "hybridwalk 0.1");
 
