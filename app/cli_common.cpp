@@ -126,7 +126,7 @@ std::string parseSpacings(const std::string& text, int maxSpacing, const std::st
   return {};
 }
 
-// Keyframe schedule options of walk and schedule-study (issue #8).
+// Keyframe schedule options of walk and schedule-study.
 void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto) {
   c->add_option("--plan-by", planBy,

@@ -118,7 +118,7 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
   benchCmd->add_flag("--quiet", o.benchQuiet, "No progress lines");
   benchCmd->add_option("--only", o.benchOnly,
                        "Run only these parts (comma-separated): complexity, trace, spacing, skips "
-                       "(skips = issue #8's table: each skip on and off, and --subdivide none, "
+                       "(skips = the table: each skip on and off, and --subdivide none, "
                        "uniform, adaptive with PSNR also over the pixels of leaves larger than a "
                        "cell, on indoor, outdoor, q3:oa_dm5 and torcs:forza; real scenes need "
                        "'scenes fetch --outdoor')")

@@ -121,7 +121,7 @@ void addScheduleOracleCommand(CLI::App& app, Commands& commands) {
       "The best any keyframe schedule can do on a path: measures the PSNR of every in-between "
       "frame for every keyframe pair up to --max-gap frames apart (--max-gap*(--max-gap+1)/2-1 "
       "walks), then finds by dynamic programming the fewest keyframes whose median in-between "
-      "PSNR reaches each fixed schedule's. The bound for issue #8's error-driven schedule. "
+      "PSNR reaches each fixed schedule's. The bound for the error-driven schedule. "
       "Writes oracle.json, oracle.csv, oracle.png, segments.csv (the measured table, for "
       "--table) and features.csv (the planner's probe features of every entry)");
   addCommon(oracleCmd, o.oracleC);

@@ -4,7 +4,7 @@
 // once per displayed frame from mouse deltas and movement keys. The camera
 // basis is rebuilt from yaw/pitch every update, never accumulated, so it stays
 // orthonormal to rounding however long the session; yaw is wrapped into
-// (−π, π] and pitch clamped, so neither grows without bound (issue #7:
+// (−π, π] and pitch clamped, so neither grows without bound (
 // tests/cpu/app_fly_pose_test.cpp runs 10,000 updates).
 #include <glm/glm.hpp>
 

@@ -252,7 +252,7 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
 
 }
 
-  // (d) Skips (issue #8): each on and off.
+  // (d) Skips: each on and off.
   json skips;
   if (want("skips")) {
     SkipStudyOptions so = opt.skips;
@@ -328,7 +328,7 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
              rowsC);
   }
   if (want("skips")) {
-    page.heading("(d) Skips: each stage only when the frame needs it (issue #8)");
+    page.heading("(d) Skips: each stage only when the frame needs it");
     page.paragraph("The same walk (tau 2^11, region-local planarity, strip merging, " +
                    std::to_string(opt.skips.frames) + " frames) with each skip on and off; " +
                    "'fired' = in-between frames where the skip applied. In-between ms and PSNR "

@@ -3,7 +3,7 @@
 // geometry ms vs in-between ms of the built-in scenes from 100k to 4M
 // triangles at the paper's two thresholds; (b) a walkthrough trace — per-frame
 // and per-stage ms with keyframes marked; (c) keyframe spacing — PSNR vs
-// keyframe_every; (d) each skip of issue #8 on and off. Writes bench.json, CSVs, PNG plots and index.html.
+// keyframe_every; (d) each skip on and off. Writes bench.json, CSVs, PNG plots and index.html.
 #include <cstddef>
 #include <string>
 #include <vector>

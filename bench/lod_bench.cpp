@@ -148,7 +148,7 @@ void BM_Build(benchmark::State& state) {
   setLabel(state, o);
 }
 
-// The robust depth gradient of LodOptions::tauGradient (issue 9), alone.
+// The robust depth gradient of LodOptions::tauGradient, alone.
 void BM_DepthGradient(benchmark::State& state) {
   const Keyframe& kf = keyframeFor(static_cast<int>(state.range(1)), static_cast<int>(state.range(0)));
   Image<float> g(kf.zPrime.width(), kf.zPrime.height());

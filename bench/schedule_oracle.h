@@ -1,5 +1,5 @@
 #pragma once
-// The best any keyframe schedule can do on a path (issue #8, the goal "the
+// The best any keyframe schedule can do on a path (the goal "the
 // error-driven schedule reaches the same median PSNR as the fixed schedule
 // with >= 30 % fewer keyframes"). An in-between frame f between keyframes
 // k0 < f < k1 depends only on (k0, k1, f): the walk shows keyframe k0 at

@@ -1,5 +1,5 @@
 #pragma once
-// Fixed vs error-driven keyframe schedules (issue #8): the walk with a
+// Fixed vs error-driven keyframe schedules: the walk with a
 // keyframe every N frames for several N, the predictors' correlation with the
 // measured per-frame PSNR of those walks, then the walk with planned
 // (keyframe/keyframe_planner.h) schedules at several target PSNRs; keyframes

@@ -1,5 +1,5 @@
 #pragma once
-// Stress suite (issue 7): depth precision of the three depth modes across
+// Stress suite: depth precision of the three depth modes across
 // far/near ratios and viewing angles on an analytic plane, and degenerate or
 // extreme cameras pushed through the whole hybrid pipeline (keyframe → Δ²z'
 // LOD mesh → backward warp → composition, Zheng et al. 1999 §1–2). Each

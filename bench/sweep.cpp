@@ -95,7 +95,7 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
     p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0});
     if (opt.bothCriteria)
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::PerAxisMax, tau, 0});
-    if (opt.variants) {  // issue #9's edge-strip variants, five-point
+    if (opt.variants) {  // the edge-strip variants, five-point
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
                          Planarity::RegionLocal, false});
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
@@ -103,7 +103,7 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
                          Planarity::RegionLocal, true});
     }
-    if (opt.tauGradient > 0)  // issue #9's gradient-following tolerance
+    if (opt.tauGradient > 0)  // the gradient-following tolerance
       p.cells.push_back({keyframe::MeshMethod::Lod, keyframe::DeltaCriterion::FivePoint, tau, 0,
                          Planarity::RegionLocal, true, opt.tauGradient});
   }

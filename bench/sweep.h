@@ -20,8 +20,8 @@ struct SweepOptions {
   std::vector<double> taus;   // z' units; empty = 2^6, 2^7, …, 2^16
   bool bothCriteria = true;   // five-point and per-axis max (else five-point only)
   bool baselines = true;      // uniform tiles (matched to each five-point τ) and per-pixel
-  bool variants = true;       // region-local planarity and strip merging (issue #9), five-point
-  // > 0 adds, per τ, the gradient-tolerance variant (issue #9): five-point,
+  bool variants = true;       // region-local planarity and strip merging, five-point
+  // > 0 adds, per τ, the gradient-tolerance variant: five-point,
   // region-local + merge, LodOptions::tauGradient = this; variant name
   // "region-local+merge+grad=A". 0 = not run (the sweep as before).
   double tauGradient = 0;

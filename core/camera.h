@@ -5,7 +5,7 @@
 // right from the left edge, v down from the top edge; pixel (i, j) has its
 // centre at (i + 0.5, j + 0.5). All maths in double (DESIGN.md "Camera").
 //
-// Precision (issue #7): unprojection, projection and matrix products are in
+// Precision: unprojection, projection and matrix products are in
 // double (relative 1e-16; a corner's world position at 2,400 units, the
 // largest scene, is exact to 3e-13). Float enters only where its 2^-24 ≈ 6e-8
 // relative error is far inside the 0.5 px reprojection budget, each stated

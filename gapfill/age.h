@@ -1,5 +1,5 @@
 #pragma once
-// Per-pixel age and the choice of what to re-render (issue #8, stable frame
+// Per-pixel age and the choice of what to re-render (stable frame
 // rate; after Qu et al. 2000 §3.1 "age buffer" and §3.4 "balancing the
 // workload"). A pixel's age counts the frames its colour has been carried
 // over from the previous frame since it was last taken from a keyframe layer

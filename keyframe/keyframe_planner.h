@@ -1,5 +1,5 @@
 #pragma once
-// Error-driven keyframe schedule (issue #8): instead of a keyframe every N
+// Error-driven keyframe schedule: instead of a keyframe every N
 // frames, walk the known camera path forward and start a new keyframe when a
 // cheap predictor says an in-between frame would fall below a target PSNR.
 // Backward warping (Zheng et al. 1999 §2) needs the keyframe *after* a frame

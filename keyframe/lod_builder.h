@@ -17,7 +17,7 @@
 namespace hw::keyframe {
 
 // How a region is judged planar (DESIGN.md "Binary subdivision", the known
-// weakness; issue 9 "edge-strip problem").
+// weakness; "edge-strip problem").
 //  Stencil:     the paper's rule: a region is planar when no pixel in it has
 //               |Δ²| > τ, each pixel's stencil (eq. 3, or per axis) reaching
 //               across the region's border. Every pixel beside a depth edge is
@@ -80,7 +80,7 @@ struct LodOptions {
   // rendered plane (NOTES-GL.md: Laplacian residual 3–11, i.e. ±2–3 per
   // pixel). Must be finite and >= 0.
   double mergeToleranceZPrime = 0.0;
-  // Gradient-following tolerance (issue 9, "a fixed τ measures rasteriser
+  // Gradient-following tolerance ("a fixed τ measures rasteriser
   // noise"): when > 0, a pixel p is dirty when |Δ²| > τ + tauGradient·g(p),
   // g(p) the local depth gradient in z' units per pixel (see
   // computeDepthGradient). Dimensionless: extra z' tolerance per z' unit per
@@ -134,7 +134,7 @@ double tauFromParallax(double parallaxPx, const Camera& camera);
 // (kDeltaDiscontinuity), so a clean region is either fully covered (a leaf) or
 // fully empty (dropped). This is exactly the paper's rule applied to a depth
 // buffer whose background is a constant far plane, minus the background quads.
-// LodOptions::planarity and mergeStrips select the variants of issue 9; with
+// LodOptions::planarity and mergeStrips select the variants; with
 // their defaults the result is the paper's rule, exactly as above.
 class LodBuilder {
  public:

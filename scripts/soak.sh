@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak test (issue #7): a long hybrid walk through the built-in indoor scene
+# Soak test: a long hybrid walk through the built-in indoor scene
 # on a closed loop (out along the default path to the hall and back, LAPS
 # times). The walk records its resident memory after every 500th frame; this
 # script also samples VmRSS (/proc/PID/status) every INTERVAL seconds, mapped

@@ -1,6 +1,6 @@
 #pragma once
-// Calibrating the keyframe planner's predictor on the scene it plans for
-// (issue #8). The predictor's default fits come from the built-in indoor
+// Calibrating the keyframe planner's predictor on the scene it plans for.
+// The predictor's default fits come from the built-in indoor
 // scene; on another scene or resolution the same predicted dB mean other
 // measured dB (oa_dm5 at 512²: a target of 33.25 dB predicted gave a 29.3 dB
 // median). Fixed-schedule walks of the same path, scene and pipeline options

@@ -1,6 +1,6 @@
 #pragma once
 // Which quads of one keyframe show surfaces another keyframe also sees — the
-// background-layer cull (issues #8, #9). In the paper's overlay (§2.2 (i))
+// background-layer cull . In the paper's overlay (§2.2 (i))
 // the background layer only shows where the foreground layer left pixels
 // empty; those are surfaces the foreground keyframe did not see (hidden
 // behind something, or outside its view). A background quad whose surface

@@ -32,7 +32,7 @@ enum class Subdivision {
 };
 const char* subdivisionName(Subdivision s);  // "none", "uniform", "adaptive"
 
-// How a layer's quads reach the rasteriser (issue #9, "cheaper primitives").
+// How a layer's quads reach the rasteriser ("cheaper primitives").
 // All three draw the same triangles with the same vertex values, so the
 // layers are identical pixel for pixel; only the vertex work differs.
 enum class Primitives {

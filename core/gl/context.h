@@ -11,7 +11,7 @@ struct GLFWwindow;
 
 namespace hw::gl {
 
-// OpenGL error accounting for callers outside gl/ folders (issue #7: a walk
+// OpenGL error accounting for callers outside gl/ folders (a walk
 // counts errors per frame). Both need a current context.
 // Drains glGetError and returns how many errors were pending (0: none).
 int drainGlErrors();
@@ -62,7 +62,7 @@ Result<std::unique_ptr<WindowContext>> createWindowContext(int width, int height
                                                            bool visible = true);
 
 // A second context for a worker thread when the main one is a GLFW window
-// (the viewer's keyframe worker, issue #8): a hidden 16x16 window
+// (the viewer's keyframe worker): a hidden 16x16 window
 // (GLFW_VISIBLE false) with its own 4.5 core context, sharing nothing with
 // `main` (no GL object crosses contexts). Call on the main thread with `main`
 // current (GLFW creates and destroys windows only there); `main` is current

@@ -1,7 +1,7 @@
 #pragma once
 // Keyframes rendered and meshed ahead of need on a worker thread with its own
 // OSMesa context, GeometryRenderer and LodBuilder, so an in-between frame does
-// not wait for one (issue #8 "stable frame rate"; Rail-Track's prefetch along
+// not wait for one ("stable frame rate"; Rail-Track's prefetch along
 // the path). The main thread only uploads what the worker hands over: no GL
 // object crosses contexts. Same build code as KeyframeCache's synchronous path
 // (buildCachedKeyframe), hence bit-identical keyframes.

@@ -288,7 +288,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
     }
     fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
     // The product is formed in double and rounded to float once. Float is
-    // enough for the vertex stage (issue #7): scene vertices are float in
+    // enough for the vertex stage: scene vertices are float in
     // every source format, and the shader's float uViewProj·aPos errs by
     // ≲ 2·2^-24·(|p| + |eye|) ≈ 3e-4 units at the largest scene's 2,400 units
     // from the origin (torcs:forza), ≤ 3e-4·f/z px = 0.07 px at z = 2 for

@@ -1,4 +1,4 @@
-# Keyframe database and chunked runs (issue #10, docs/slurm.md, docs/keyframe-db.md):
+# Keyframe database and chunked runs (docs/slurm.md, docs/keyframe-db.md):
 #  - bake + walk --keyframes gives bit-identical frames; a corrupted or
 #    truncated keyframe file is named by its checksum/size error;
 #  - --workers 2 gives the in-process outputs (bake: identical files; sweep:

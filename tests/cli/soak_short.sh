@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A short soak (scripts/soak.sh, issue #7) in every CI run: 3,000 frames at
+# A short soak (scripts/soak.sh) in every CI run: 3,000 frames at
 # 128², one lap. Catches memory that grows with the frames walked — e.g. a
 # keyframe cache that keeps passed keyframes until its byte bound (300
 # keyframes here would add ~60 MiB, far above the 5 % limit).

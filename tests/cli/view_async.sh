@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# view --async-keyframes (issue #8 "stable frame rate"): keyframes rendered on
+# view --async-keyframes ("stable frame rate"): keyframes rendered on
 # a worker thread with a hidden window's context. Playing a path the viewer
 # takes its keyframes from the worker (the first one waited for, as a load),
 # writes per-frame statistics and frame-time percentiles, and its

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# view --frame-budget-ms (issue #8 "stable frame rate"): the viewer presents
+# view --frame-budget-ms ("stable frame rate"): the viewer presents
 # frames every budget ms (pacing only). Fixed: every frame after the first
 # takes at least the budget. auto: each frame's budget is recomputed here
 # from the per-frame work in --frame-stats (the quantile, nearest rank, of

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# view --keyframes DB (issue #10): playing the baked path, the viewer reads
+# view --keyframes DB: playing the baked path, the viewer reads
 # every keyframe from the database (none rendered) and shows the same frame as
 # `walk --keyframes DB`; a database of another path or size is refused.
 # Runs under Xvfb (scripts/test.sh runs CTest inside xvfb-run).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# walk --frame-budget-ms (issue #8, stable frame rate): the budget fields in
+# walk --frame-budget-ms (stable frame rate): the budget fields in
 # report.json and the closing line on stdout; --pixel-age alone leaves the
 # frames those of the default walk; bad budget values are usage errors that
 # name the option.

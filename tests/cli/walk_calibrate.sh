@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The planner calibrated on the scene (issue #8): walk --calibrate-spacing
+# The planner calibrated on the scene: walk --calibrate-spacing
 # walks fixed schedules first, refits the predictor to their measured PSNRs
 # and plans with it; --target-psnr fixed:G takes a calibration walk's median.
 # Checked against the walk itself: the calibration walk every 10 frames has

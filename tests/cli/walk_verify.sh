@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The verified planner (issue #8): walk --verify-rounds walks the planned
+# The verified planner: walk --verify-rounds walks the planned
 # segments not measured yet, replans on the measured frames, and walks the
 # fewest keyframes whose median measured frames alone guarantee. Checked
 # against the walk that runs it: at least the planner's measured count of its

@@ -1,4 +1,4 @@
-// The viewer's fly controls over a long session (issue #7, "precision where
+// The viewer's fly controls over a long session ("precision where
 // it matters"): 10,000 updates of mouse look and movement keep the camera
 // basis orthonormal, yaw and pitch bounded, and a closed or retraced motion
 // returns to where it started (app/fly_pose.h).

@@ -1,4 +1,4 @@
-// The gradient-following tolerance of the LOD builder (issue 9: "a fixed τ
+// The gradient-following tolerance of the LOD builder ("a fixed τ
 // measures rasteriser noise"; LodOptions::tauGradient): the robust depth
 // gradient, the noise it absorbs on a steep plane, the depth steps it must
 // still cut, and that tauGradient = 0 (or a vanishing one) changes nothing.

@@ -1,4 +1,4 @@
-// The probe-psnr predictor (issue #8) without GL: a ray-cast stand-in for
+// The probe-psnr predictor without GL: a ray-cast stand-in for
 // the geometry renderer draws a textured back wall behind a pillar, and the
 // planner warps its low-resolution probes. A frame at a keyframe's camera has
 // no error (low-res PSNR at the cap), keyframes next to a frame are ranked

@@ -1,4 +1,4 @@
-// The edge-strip variants of the LOD builder (issue 9; DESIGN.md "Binary
+// The edge-strip variants of the LOD builder (DESIGN.md "Binary
 // subdivision", known weakness): region-local planarity and strip merging,
 // on analytic depth buffers (no GL). Every variant must tile the covered
 // pixels exactly once with corners on their pixel rays; RegionLocal must

@@ -1,4 +1,4 @@
-// A 10,000-frame closed camera path (issue #7, "precision where it
+// A 10,000-frame closed camera path ("precision where it
 // matters"): cameraAt evaluates each frame from the keys, not by stepping, so
 // the last frame of a loop lands on its first camera, every basis is
 // orthonormal and the per-frame motion stays bounded (no value grows with the

@@ -1,4 +1,4 @@
-// The viewer with --async-keyframes under Xvfb (scripts/test.sh), issue #8:
+// The viewer with --async-keyframes under Xvfb (scripts/test.sh):
 // keyframes rendered on a worker thread in a hidden window's context.
 // - Lockstep (the test hook that takes each worker keyframe in the frame that
 //   requests it): keyframes and frames are the synchronous viewer's, so the

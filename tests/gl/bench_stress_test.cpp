@@ -1,4 +1,4 @@
-// Stress suite (issue 7) on OSMesa: every degenerate/extreme camera case gives
+// Stress suite on OSMesa: every degenerate/extreme camera case gives
 // a valid frame or a clear error (quick sizes, all three depth modes), and
 // the depth-precision facts that the report's conclusion rests on hold on a
 // plane at one ratio and angle.

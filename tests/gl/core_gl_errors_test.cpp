@@ -1,4 +1,4 @@
-// OpenGL error accounting (issue #7): drainGlErrors counts what glGetError
+// OpenGL error accounting: drainGlErrors counts what glGetError
 // reports, and the KHR_debug callback (debug builds, or HW_GL_DEBUG=1, as
 // set here before the context exists) counts each error as it happens.
 #include <gtest/gtest.h>

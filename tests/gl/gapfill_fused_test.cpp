@@ -1,4 +1,4 @@
-// The fused two-layer pass (Warper::warpPair, issue #8) against the paper's
+// The fused two-layer pass (Warper::warpPair) against the paper's
 // two separate layers composed on the CPU, and its background skip.
 #include <gtest/gtest.h>
 

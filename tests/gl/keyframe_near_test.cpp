@@ -1,4 +1,4 @@
-// Near objects drawn directly (Zheng et al. 1999 §3, issue #8): a keyframe
+// Near objects drawn directly (Zheng et al. 1999 §3): a keyframe
 // that leaves out the meshes near its eye, plus those meshes drawn by
 // renderNear and composed by depth, is the full picture again.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Per-frame time budget (WalkOptions::frameBudgetMs, issue #8): the scissored
+// Per-frame time budget (WalkOptions::frameBudgetMs): the scissored
 // colour render gives the full render's pixels; with a budget large enough
 // every stale pixel is re-rendered and equals the geometry render there; with
 // the budget off (and pixel ages tracked or not) the frames are those of the

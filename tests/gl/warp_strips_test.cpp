@@ -1,4 +1,4 @@
-// The edge-strip variants of the LOD builder (issue 9: region-local planarity,
+// The edge-strip variants of the LOD builder (region-local planarity,
 // strip merging) on rendered keyframes, through the real GL warp: every
 // variant tiles the covered pixels exactly once and, warped to the keyframe's
 // own camera, reproduces the keyframe (≥ 50 dB). Lives in the warp module's

@@ -1,4 +1,4 @@
-// Subdivision of large quads at upload (paper §2.1, issue #8): at the
+// Subdivision of large quads at upload (paper §2.1): at the
 // keyframe's own camera every variant still reproduces the keyframe, and only
 // the adaptive one leaves flat quads alone. Layer::largeQuad (the pixels large
 // leaves drew, where the modes differ) lies only where those leaves project,

@@ -108,7 +108,7 @@ constexpr float kBackgroundAlpha = 254.0f / 255.0f;
 constexpr std::uint8_t kAlphaForeground = 255, kAlphaBackground = 254, kAlphaLargeForeground = 253,
                        kAlphaLargeBackground = 252;
 
-// Float is enough here (issue #7, "precision where it matters"); corners,
+// Float is enough here ("precision where it matters"); corners,
 // matrices and unprojection are computed in double and rounded once:
 //  - pos: rounding a corner to float moves it ≤ 2^-24·|p|; with the shader's
 //    float product uViewProj·pos (the view translation −R·eye cancels against
@@ -157,7 +157,7 @@ void destroySlot(GlSlot& s) {
 // and texture storage in malloc'd memory, so creating and deleting a vertex
 // buffer (200 KiB–1 MiB, a different size for every keyframe) and a texture
 // per keyframe fragmented glibc's heap: the 10,000-frame soak's [heap] RSS
-// grew 42 → 51 MiB while the live heap stayed at 43 MiB (issue #7). A walk
+// grew 42 → 51 MiB while the live heap stayed at 43 MiB. A walk
 // holds at most three sources at a time, so a few slots cover it.
 struct SlotPool {
   static constexpr std::size_t kMaxFree = 4;

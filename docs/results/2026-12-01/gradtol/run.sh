@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Gradient-following LOD tolerance (issue 9, LodOptions::tauGradient):
+# Gradient-following LOD tolerance (LodOptions::tauGradient):
 # region-local + merge, 512x512, 61 frames, tau in {2^3, 2^5, 2^7, 2^11},
 # tauGradient A in {0, S, 4S} (S = the suggested value). Run from the repo root:
 #   bash docs/results/2026-12-01/gradtol/run.sh build/bin/hybridwalk S OUTDIR
