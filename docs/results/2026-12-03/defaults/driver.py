@@ -141,6 +141,7 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated scene labels")
     ap.add_argument("--configs", default="", help="comma-separated config names")
     ap.add_argument("--csv-only", action="store_true")
+    ap.add_argument("--csv", default=os.path.join(HERE, "runs.csv"))
     a = ap.parse_args()
     if os.environ.get("LP_NUM_THREADS") != "2":
         sys.exit("export LP_NUM_THREADS=2 first")
@@ -157,7 +158,7 @@ def main():
                     continue
                 for cname, opts in cfgs:
                     run_cell(a.runs, label, scene, path, frames, cname, opts, log)
-    collect(a.runs, os.path.join(HERE, "runs.csv"))
+    collect(a.runs, a.csv)
 
 if __name__ == "__main__":
     main()
