@@ -414,9 +414,12 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   }
   auto res = session::runWalk(in->scene, o.walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
-  if (!wo.outDir.empty())
-    if (auto st = report::writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, o.walkC.scene); !st)
+  if (!wo.outDir.empty()) {
+    if (auto st = report::writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, o.walkC.scene);
+        !st)
       return fail(st.error().message);
+    if (auto st = report::writeStrips(wo.outDir, *res); !st) return fail(st.error().message);
+  }
   if (!plannerJson.is_null()) {
     // The planner's settings and cost go into the report's summary.
     auto text = readFile(o.walkOut + "/report.json");

@@ -791,4 +791,10 @@ Status writePlot(const std::string& pngPath, const std::vector<Series>& series,
   return writePng(pngPath, renderPlot(series, options));
 }
 
+void drawCaption(Image<Rgba8>& image, const std::string& text, int x, int y, Rgba8 colour) {
+  drawText(image, text, x, y, colour);
+}
+
+int captionHeight() { return lineHeight(); }
+
 }  // namespace hw::report

@@ -55,6 +55,11 @@ PlotRect plotArea(const std::vector<Series>& series, const PlotOptions& options)
 Status writePlot(const std::string& pngPath, const std::vector<Series>& series,
                  const PlotOptions& options);
 
+// Text as the plots draw it (stb_easy_font, 2x), its cap top-left at (x, y);
+// clipped to the image. captionHeight() is one line's height in pixels.
+void drawCaption(Image<Rgba8>& image, const std::string& text, int x, int y, Rgba8 colour);
+int captionHeight();
+
 // The palette of automatic colours (tab10, Vega/matplotlib), in order.
 const std::vector<Rgba8>& plotPalette();
 

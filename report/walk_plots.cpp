@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "core/file_io.h"
 #include "report/plot.h"
 
 namespace hw::report {
@@ -67,6 +68,35 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   if (budgetOn && opt.paceFrames) series.push_back(interval);
   if (anyBudget) series.push_back(budget);
   return writePlot(pngPath, series, po);
+}
+
+Status writeStrips(const std::string& outDir, const session::WalkResult& result) {
+  const nlohmann::json& info = result.report["summary"]["strips"];
+  constexpr int kGap = 4;  // hstack's gap in session/walk.cpp
+  const Rgba8 kInk{20, 20, 20, 255}, kPaper{255, 255, 255, 255};
+  for (std::size_t s = 0; s < result.strips.size() && s < info.size(); ++s) {
+    const Image<Rgba8>& strip = result.strips[s];
+    const int line = captionHeight() + 6;
+    Image<Rgba8> out(strip.width(), strip.height() + 2 * line);
+    out.fill(kPaper);
+    for (int y = 0; y < strip.height(); ++y)
+      for (int x = 0; x < strip.width(); ++x) out(x, y + 2 * line) = strip(x, y);
+    const int panel = (strip.width() - 3 * kGap) / 4;
+    const int frame = info[s]["frame"].get<int>();
+    const char* titles[4] = {"reference (geometry)", "hybrid (warped)", "|difference| x4",
+                             "holes (red)"};
+    for (int p = 0; p < 4; ++p) drawCaption(out, titles[p], p * (panel + kGap) + 4, 3, kInk);
+    char psnrText[32] = "identical";
+    if (info[s]["psnr"].is_number())
+      std::snprintf(psnrText, sizeof psnrText, "%.2f dB", info[s]["psnr"].get<double>());
+    char text[160];
+    std::snprintf(text, sizeof text, "frame %d   PSNR %s   SSIM %.4f   holes %.2f %%", frame,
+                  psnrText, info[s]["ssim"].is_number() ? info[s]["ssim"].get<double>() : 1.0,
+                  100.0 * info[s]["holes_before_fallback"].get<double>());
+    drawCaption(out, text, 4, line + 3, kInk);
+    HW_TRY(writePng(outDir + "/strip_" + std::to_string(frame) + ".png", out));
+  }
+  return {};
 }
 
 }  // namespace hw::report

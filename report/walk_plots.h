@@ -12,4 +12,8 @@ namespace hw::report {
 Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& result,
                        const session::WalkOptions& options, const std::string& sceneLabel);
 
+// strip_FRAME.png for each of the walk's strips, with a caption band above
+// the panels: what each shows, and the frame's PSNR, SSIM and holes.
+Status writeStrips(const std::string& outDir, const session::WalkResult& result);
+
 }  // namespace hw::report

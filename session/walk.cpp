@@ -703,11 +703,7 @@ Result<WalkResult> WalkLoop::run() {
   WalkResult result;
   HW_TRY(recorder_.finish(summary(), writing_ ? opt_.outDir + "/report.json" : std::string(),
                           &result.report));
-  if (writing_)
-    for (std::size_t s = 0; s < recorder_.strips.size(); ++s)
-      HW_TRY(writePng(opt_.outDir + "/strip_" +
-                          std::to_string(recorder_.stripInfo[s]["frame"].get<int>()) + ".png",
-                      recorder_.strips[s]));
+  result.strips = std::move(recorder_.strips);
   result.frameTimes = std::move(recorder_.frameTimes);
   return result;
 }

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/image.h"
 #include "core/result.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
@@ -124,11 +125,15 @@ struct FrameTimes {
 struct WalkResult {
   nlohmann::json report;  // {"frames": [...], "summary": {...}}
   FrameTimes frameTimes;
+  // reference | hybrid | difference x4 | holes, side by side (4 px gaps), of
+  // the frames in report.summary.strips (same order); report/walk_plots.h
+  // writes them captioned.
+  std::vector<Image<Rgba8>> strips;
 };
 
 // Runs the walk on an already loaded scene and path. A GL context must be
-// current. With an output directory it writes report.json, the strips and
-// (saveFrames) every frame; frame_times.png is report/walk_plots.h's. Errors
+// current. With an output directory it writes report.json and (saveFrames)
+// every frame; the strips and frame_times.png are report/walk_plots.h's. Errors
 // (GL, output) come back as Error; nothing half-written.
 Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
                            const scenes::CameraPath& path, const WalkOptions& options);
