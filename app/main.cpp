@@ -35,6 +35,7 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
+#include "scenes/catalogue.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
@@ -222,6 +223,7 @@ struct Common {
   std::string path;  // empty: the scene's default path
   std::string depth = depthModeName(kDefaultDepthMode);
   int frames = 0;
+  scenes::DefaultPathOptions pathOptions;  // --speed, --eye-height
 };
 
 // A whole number of frames in [lo, hi]: "expected a whole number of frames from
@@ -289,11 +291,15 @@ void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& wh
 }
 
 void addCommon(CLI::App* c, Common& o) {
-  c->add_option("--scene", o.scene,
-                "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
-                "indoor:1M; default 100k), or a model file read by Assimp (OBJ, glTF, PLY, "
-                "COLLADA, AC3D, .blend, ...)")
-      ->capture_default_str();
+  c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
+  c->add_option("--speed", o.pathOptions.metresPerFrame,
+                "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
+                "over 240 frames)")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--eye-height", o.pathOptions.eyeHeight,
+                "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
+                "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--path", o.path,
                 "Camera path JSON (DESIGN.md format: width, height, fov_y_deg, near, far, up, "
                 "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
@@ -332,8 +338,10 @@ Result<Loaded> loadInputs(const Common& o) {
   std::fprintf(stderr, "scene %s: %zu triangles, %zu meshes, loaded in %.0f ms\n",
                l.scene.name.c_str(), l.scene.triangleCount(), l.scene.meshes.size(), sw.ms());
   if (o.path.empty()) {
-    auto p = scenes::defaultPathFor(o.scene);
+    std::vector<std::string> notes;
+    auto p = scenes::defaultPathFor(o.scene, o.pathOptions, &notes);
     if (!p) return p.error();
+    for (const auto& n : notes) std::fprintf(stderr, "hybridwalk: note: %s\n", n.c_str());
     l.path = std::move(*p);
   }
   auto ctx = gl::createHeadlessContext();
@@ -349,7 +357,7 @@ DepthMode depthModeOf(const std::string& s) {
 }
 
 // ---- render ---------------------------------------------------------------
-int runRender(const Common& o, const std::string& outDir) {
+int runRender(const Common& o, const std::string& outDir, bool quiet) {
   auto in = loadInputs(o);
   if (!in) return fail(in.error().message);
   if (auto st = ensureWritableDir(outDir); !st) return fail(st.error().message);
@@ -372,7 +380,7 @@ int runRender(const Common& o, const std::string& outDir) {
                   {"readback_ms", st.readbackMs}, {"meshes_drawn", st.meshesDrawn},
                   {"triangles_drawn", st.trianglesDrawn}});
     ms.push_back(st.drawMs + st.readbackMs);
-    if (progress.ms() > 1000 || i + 1 == frames) {
+    if (!quiet && (progress.ms() > 1000 || i + 1 == frames)) {
       progress.restart();
       std::fprintf(stderr, "\rrender: frame %d/%d, ETA %.0f s   %s", i + 1, frames,
                    all.ms() / 1000.0 / (i + 1) * (frames - i - 1), i + 1 == frames ? "\n" : "");
@@ -761,6 +769,8 @@ int main(int argc, char** argv) {
                 "with per-frame times and the scene's triangle count");
   addCommon(render, renderC);
   render->add_option("--out", renderOut, "Output directory")->capture_default_str();
+  bool renderQuiet = false;
+  render->add_flag("--quiet", renderQuiet, "No progress line");
 
   // lod
   Common lodC;
@@ -1122,7 +1132,9 @@ int main(int argc, char** argv) {
   fetchCmd->add_flag("--outdoor", fetchOutdoor,
                      "Also the outdoor scenes: torcs-data (TORCS tracks, torcs:NAME, 333 MB) and "
                      "morse-simulator-data (MORSE environments, morse:ENV/FILE, 82 MB)");
-  auto* listCmd = scenesCmd->add_subcommand("list", "List the built-in scenes and the q3: maps in the cache");
+  auto* listCmd = scenesCmd->add_subcommand(
+      "list", "List every scene by kind (built-in, q3: maps, torcs: tracks, morse: environments), "
+              "marking the kinds not fetched yet");
   listCmd->add_option("--dir", cacheDir, "Cache directory")->capture_default_str();
 
   // CLI11 only says "A subcommand is required" for a misspelt command; name it.
@@ -1147,7 +1159,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitUsage;
   }
 
-  if (render->parsed()) return runRender(renderC, renderOut);
+  if (render->parsed()) return runRender(renderC, renderOut, renderQuiet);
 
   if (stressCmd->parsed()) {
     auto ctx = gl::createHeadlessContext();
@@ -1178,16 +1190,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (listCmd->parsed()) {
-    std::printf("built-in: indoor, outdoor (append :N for ~N triangles, e.g. indoor:1M)\n");
-    const auto pk3s = scenes::defaultPk3Paths(cacheDir);
-    if (pk3s.empty()) {
-      std::printf("no pk3 files in %s: run 'hybridwalk scenes fetch' for the OpenArena maps\n",
-                  cacheDir.c_str());
-      return 0;
-    }
-    auto maps = scenes::listQ3Maps(pk3s);
-    if (!maps) return fail(maps.error().message);
-    for (const auto& m : *maps) std::printf("q3:%s\n", m.c_str());
+    for (const auto& e : scenes::listScenes(cacheDir))
+      std::printf("%-9s %-28s %s%s\n", e.kind.c_str(), e.spec.c_str(), e.fetched ? "" : "NOT FETCHED: ",
+                  e.note.c_str());
     return 0;
   }
 

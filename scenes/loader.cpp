@@ -558,8 +558,13 @@ Result<Scene> loadScene(const std::string& spec) {
 }
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
+  return defaultPathFor(spec, DefaultPathOptions{}, nullptr);
+}
+
+Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOptions& options,
+                                  std::vector<std::string>* notes) {
   std::error_code ec;
-  if (auto outdoor = outdoorDefaultPath(spec)) return std::move(*outdoor);
+  if (auto outdoor = outdoorDefaultPath(spec, options, notes)) return std::move(*outdoor);
   if (auto q3 = q3MapName(spec); q3 && !fs::exists(spec, ec)) {
     auto map = loadQ3Spec(*q3);
     if (!map) return map.error();

@@ -30,6 +30,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/torcs_track.h"
 
 namespace hw::scenes {
 namespace {
@@ -916,14 +917,17 @@ std::optional<Result<Scene>> loadOutdoorSpec(const std::string& spec) {
   return loadOutdoorFile(**file);
 }
 
-std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec) {
+std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
+                                                     const DefaultPathOptions& options,
+                                                     std::vector<std::string>* notes) {
   auto file = outdoorFileOf(spec);
   if (!file) return std::nullopt;
   if (!*file) return Result<CameraPath>(file->error());
   if (lower(fs::path(**file).extension().string()) == ".acc") {
-    auto track = loadTorcsTrack(**file);
-    if (!track) return Result<CameraPath>(track.error());
-    return drivePath(*track);
+    DrivePathOptions o;
+    o.metresPerFrame = options.metresPerFrame;
+    if (options.eyeHeight > 0) o.eyeHeightMetres = options.eyeHeight;
+    return torcsDefaultPath(**file, o, notes);
   }
   auto scene = loadBlendFile(**file);
   if (!scene) return Result<CameraPath>(scene.error());
@@ -935,7 +939,9 @@ std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec) {
     const double t = 2.0 * 3.14159265358979323846 * k / 24;
     circle.push_back({c.x + r * std::cos(t), c.z + r * std::sin(t)});
   }
-  return terrainWalkPath(grid, circle);
+  TerrainWalkOptions walk;
+  if (options.eyeHeight > 0) walk.eyeHeightMetres = options.eyeHeight;
+  return terrainWalkPath(grid, circle, walk);
 }
 
 // ------------------------------------------------------------------ queries

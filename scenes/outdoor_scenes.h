@@ -15,6 +15,7 @@
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
+#include "scenes/loader.h"
 #include "scenes/scene.h"
 
 namespace hw::scenes {
@@ -119,9 +120,12 @@ std::optional<Result<Scene>> loadOutdoorFile(const std::string& path);
 // The hooks of loader.cpp: an existing .acc/.blend file, "torcs:NAME" or
 // "morse:ENV/FILE" (in defaultSceneCacheDir()). nullopt: not ours.
 std::optional<Result<Scene>> loadOutdoorSpec(const std::string& spec);
-// Their default paths: drivePath (defaults) for tracks; for .blend scenes a
-// terrainWalkPath around a circle of 0.25 × the smaller ground extent.
-std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec);
+// Their default paths: for tracks torcsDefaultPath (scenes/torcs_track.h:
+// the track description's centreline, else drivePath's trace); for .blend
+// scenes a terrainWalkPath around a circle of 0.25 × the smaller ground extent.
+std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
+                                                     const DefaultPathOptions& options = {},
+                                                     std::vector<std::string>* notes = nullptr);
 
 // ---------------------------------------------------------------- queries
 
@@ -173,6 +177,9 @@ struct DrivePathOptions {
   double lookAheadMetres = 12.0;  // look-at point this far along the centreline
   double startMetres = 0.0;       // where along the loop the path starts
   double lengthMetres = 450.0;    // how much of the loop it drives (≤ loop length)
+  // Speed in metres per frame; > 0 overrides lengthMetres: the path drives
+  // metresPerFrame × (frames − 1) metres (at most one loop).
+  double metresPerFrame = 0.0;
   bool reverse = false;           // drive the loop the other way (needs a closed trace)
   // roadCentreline stops once it has traced this much (drivePath asks for
   // what it drives); a closed loop ends earlier.
