@@ -38,6 +38,7 @@
 #include "scenes/catalogue.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
+#include "scenes/outdoor_scenes.h"
 #include "scenes/q3bsp.h"
 
 namespace {
@@ -224,6 +225,7 @@ struct Common {
   std::string depth = depthModeName(kDefaultDepthMode);
   int frames = 0;
   scenes::DefaultPathOptions pathOptions;  // --speed, --eye-height
+  std::string resolution;                  // WxH; empty: the path's
 };
 
 // A whole number of frames in [lo, hi]: "expected a whole number of frames from
@@ -313,6 +315,7 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  c->add_option("--resolution", o.resolution, "Frame size WxH in pixels, e.g. 256x256 (default: the path's)");
 }
 
 struct Loaded {
@@ -344,6 +347,16 @@ Result<Loaded> loadInputs(const Common& o) {
     for (const auto& n : notes) std::fprintf(stderr, "hybridwalk: note: %s\n", n.c_str());
     l.path = std::move(*p);
   }
+  if (!o.resolution.empty()) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(o.resolution.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 16 ||
+        h < 16 || w > 16384 || h > 16384)
+      return makeError("--resolution: expected WxH with 16..16384 pixels each, e.g. 256x256, got '" +
+                       o.resolution + "'");
+    l.path.width = w;
+    l.path.height = h;
+  }
   auto ctx = gl::createHeadlessContext();
   if (!ctx) return ctx.error();
   l.context = std::move(*ctx);
@@ -366,6 +379,18 @@ int runRender(const Common& o, const std::string& outDir, bool quiet) {
   auto r = keyframe::GeometryRenderer::create(in->scene, ropt);
   if (!r) return fail(r.error().message);
   const int frames = o.frames > 0 ? std::min(o.frames, in->path.frames) : in->path.frames;
+  json first;  // where the first frame's eye stands, and how much of it is sky or void
+  {
+    keyframe::Keyframe kf;
+    const Camera c0 = in->path.cameraAt(0);
+    if (auto s = (*r)->renderKeyframe(c0, kf); !s) return fail(s.error().message);
+    std::size_t empty = 0;
+    for (std::uint8_t c : kf.covered.pixels()) empty += c == 0;
+    const auto eye = scenes::checkEye(scenes::TriangleGrid(in->scene), c0.eye);
+    first = {{"empty_fraction", static_cast<double>(empty) / static_cast<double>(kf.covered.pixels().size())},
+             {"floor_drop", eye.floorDrop ? json(*eye.floorDrop) : json(nullptr)},
+             {"clearance", eye.clearance}};
+  }
   Image<Rgba8> img;
   json fr = json::array();
   std::vector<double> ms;
@@ -391,6 +416,7 @@ int runRender(const Common& o, const std::string& outDir, bool quiet) {
                   {{"scene", {{"name", in->scene.name}, {"triangles", in->scene.triangleCount()}}},
                    {"resolution", {in->path.width, in->path.height}},
                    {"depth_mode", o.depth},
+                   {"first_frame", first},
                    {"ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
                    {"machine", machineInfo(in->context->renderer(), in->context->version())}}}};
   if (auto s = writeFileAtomic(outDir + "/render.json", report.dump(1)); !s) return fail(s.error().message);

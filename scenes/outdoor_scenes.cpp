@@ -1066,6 +1066,14 @@ bool TriangleGrid::segmentClear(const glm::dvec3& a, const glm::dvec3& b, double
   return true;
 }
 
+EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxClearance) {
+  EyeCheck c;
+  const std::vector<double> hits = grid.hitsBelow(eye);
+  if (!hits.empty()) c.floorDrop = eye.y - hits.front();
+  c.clearance = grid.distanceToNearest(eye, maxClearance);
+  return c;
+}
+
 // ------------------------------------------------------------------ paths
 
 Result<std::vector<glm::dvec3>> roadCentreline(const Ac3dModel& track,

@@ -161,6 +161,19 @@ class TriangleGrid {
   std::vector<std::vector<std::uint32_t>> cells_;
 };
 
+// Where an eye stands: the drop to the first surface straight below it
+// (nullopt: nothing below, the eye is over the void) and the distance to
+// the nearest triangle (capped at maxClearance; ~0: inside a wall).
+struct EyeCheck {
+  std::optional<double> floorDrop;
+  double clearance = 0.0;
+  // Above a floor within maxDrop and at least minClearance from every surface.
+  bool playable(double maxDrop, double minClearance) const {
+    return floorDrop && *floorDrop <= maxDrop && clearance >= minClearance;
+  }
+};
+EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxClearance = 1.0);
+
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
 double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
                              const glm::dvec3& c);

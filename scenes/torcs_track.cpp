@@ -334,8 +334,16 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
   auto step = number(*main, "profil steps length", source, "Main Track");
   if (!step) return step.error();
   if (*step) d.profileStepMetres = std::max(0.0, **step);
-  const XmlSection* list = main->child("Track Segments");
-  if (!list) list = main->child("Segments");
+  // "Track Segments" (version 4), "segments" (older files).
+  const XmlSection* list = nullptr;
+  for (const XmlSection& c : main->sections) {
+    std::string n;
+    for (char ch : c.name) n += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (n == "track segments" || n == "segments") {
+      list = &c;
+      break;
+    }
+  }
   if (!list || list->sections.empty())
     return makeError(source + ":" + std::to_string(main->line) +
                      ": Main Track has no segments (expected <section name=\"Track Segments\"> "
@@ -685,11 +693,15 @@ Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline&
   path.keyframeEvery = options.keyframeEvery;
   const double dir = options.reverse ? -1.0 : 1.0;
   const glm::dvec3 up(0, options.eyeHeightMetres, 0);
+  // A driver looks at the road ahead: the look-at point is a quarter of the
+  // eye height above it (about 4° down at 1.2 m and 12 m ahead).
+  const glm::dvec3 lookUp(0, 0.25 * options.eyeHeightMetres, 0);
   const double step = std::max(0.5, options.stepMetres);
   const int keys = std::max(2, static_cast<int>(std::ceil(length / step)) + 1);
   for (int k = 0; k < keys; ++k) {
     const double sArc = options.startMetres + dir * length * k / (keys - 1);
-    path.keys.push_back({pointAt(sArc) + up, pointAt(sArc + dir * options.lookAheadMetres) + up});
+    path.keys.push_back(
+        {pointAt(sArc) + up, pointAt(sArc + dir * options.lookAheadMetres) + lookUp});
   }
   return path;
 }

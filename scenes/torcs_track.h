@@ -106,7 +106,8 @@ Result<TorcsRegistration> registerTorcsCentreline(const TorcsCentreline& line, c
 // found in the model (ray cast down; the surface nearest the previous
 // sample's, so bridges and tunnels keep to the road). Speed: options.metresPerFrame
 // (0: lengthMetres over frames); starts at the start line + startMetres;
-// 512², fov 60°, near 0.5 m, far 1000 m, a key every stepMetres.
+// looks at the road lookAheadMetres ahead, a quarter of the eye height above
+// it; 512², fov 60°, near 0.5 m, far 1000 m, a key every stepMetres.
 Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline& line,
                                   const TorcsRegistration& reg, const DrivePathOptions& options = {});
 

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 
+#include "scenes/fetch.h"
 #include "scenes/torcs_track.h"
 
 namespace hw::scenes {
@@ -282,6 +284,36 @@ TEST(TorcsTrackXml, RegistrationFindsTheShiftAndTheDriveStaysOnTheRoad) {
   Scene other = model.scene;
   for (Vertex& v : other.meshes[0].vertices) v.position.x *= 1.5f;
   EXPECT_FALSE(registerTorcsCentreline(*c, other).ok());
+}
+
+// Every track of the torcs-data package (needs `hybridwalk scenes fetch
+// --outdoor`; fails, never skips, without it): its description parses,
+// closes within 1 m and 0.1°, and lands on the model's vertices.
+TEST(TorcsTrackReal, EveryTrackDescriptionClosesAndRegisters) {
+  const std::string root = defaultSceneCacheDir() + "/root/usr/share/games/torcs";
+  auto any = findTorcsTrack(root, "forza");
+  ASSERT_TRUE(any.ok()) << any.error().message;
+  const auto tracks = std::filesystem::path(*any).parent_path().parent_path().parent_path();
+  int n = 0;
+  for (const auto& cat : std::filesystem::directory_iterator(tracks))
+    for (const auto& t : std::filesystem::directory_iterator(cat.path())) {
+      const std::string name = t.path().filename().string();
+      const std::string acc = (t.path() / (name + ".acc")).string();
+      if (!std::filesystem::is_regular_file(acc)) continue;
+      ++n;
+      auto d = loadTorcsTrackXml(torcsDescriptionPathFor(acc));
+      ASSERT_TRUE(d.ok()) << d.error().message;
+      auto c = integrateTorcsCentreline(*d);
+      ASSERT_TRUE(c.ok()) << c.error().message;
+      EXPECT_LT(c->closureGapMetres, 1.0) << name;
+      EXPECT_LT(c->closureDegrees, 0.1) << name;
+      auto model = loadTorcsTrack(acc);
+      ASSERT_TRUE(model.ok()) << model.error().message;
+      auto reg = registerTorcsCentreline(*c, model->scene);
+      ASSERT_TRUE(reg.ok()) << name << ": " << reg.error().message;
+      EXPECT_GT(reg->matchedFraction, 0.95) << name;
+    }
+  EXPECT_GE(n, 20);
 }
 
 }  // namespace
