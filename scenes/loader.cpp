@@ -26,6 +26,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/floor_walk.h"
 #include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
@@ -579,6 +580,11 @@ Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOpti
   }
   auto scene = loadSceneFile(spec);
   if (!scene) return scene.error();
+  FloorWalkOptions walk;
+  walk.eyeHeight = options.eyeHeight;
+  auto floor = floorWalkPath(*scene, walk);
+  if (floor) return floor;
+  if (notes) notes->push_back(floor.error().message + "; the default path orbits the bounds instead");
   return flythroughPathFor(*scene);
 }
 

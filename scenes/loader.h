@@ -46,7 +46,10 @@ struct DefaultPathOptions {
 };
 
 // Default camera path for a spec: the built-in walks for "indoor"/"outdoor",
-// else a flythrough of the file's scene (loads the file; see flythroughPathFor).
+// q3 maps through their spawns, TORCS tracks along their centreline, MORSE
+// terrains on foot; a model file is walked over its floor at eye height
+// (loads the file; scenes/floor_walk.h), or, where no floor is found,
+// orbited (flythroughPathFor) with a note saying so.
 // `notes` (may be null) receives what the path had to fall back on, for the
 // user (e.g. a TORCS track without its description).
 Result<CameraPath> defaultPathFor(const std::string& spec);
