@@ -144,6 +144,10 @@ class TriangleGrid {
   // True when the segment a→b stays at least `clearance` from every
   // triangle (checked at steps of clearance/2).
   bool segmentClear(const glm::dvec3& a, const glm::dvec3& b, double clearance) const;
+  // Distance along the unit direction `dir` from `origin` to the first
+  // triangle hit (either side), or nullopt when none is within maxDistance.
+  std::optional<double> rayHit(const glm::dvec3& origin, const glm::dvec3& dir,
+                               double maxDistance) const;
 
   std::size_t triangleCount() const { return tris_.size(); }
 
@@ -173,6 +177,12 @@ struct EyeCheck {
   }
 };
 EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxClearance = 1.0);
+
+// The fraction of a view that sees nothing within maxDistance (sky or void):
+// rays through an n × n grid of pixel centres of a camera at `eye` looking
+// along `forward` (up +Y, square image, vertical field of view fovYDeg).
+double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const glm::dvec3& forward,
+                        double fovYDeg, double maxDistance, int n = 16);
 
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
 double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,

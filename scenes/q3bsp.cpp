@@ -21,6 +21,7 @@
 #include <unordered_map>
 
 #include "scenes/loader.h"  // flythroughPathFor
+#include "scenes/outdoor_scenes.h"  // TriangleGrid
 
 namespace hw::scenes {
 namespace {
@@ -1033,6 +1034,20 @@ bool segmentBlocked(const Scene& scene, const glm::vec3& a, const glm::vec3& b) 
 CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
   if (map.spawns.empty()) return flythroughPathFor(map.scene);
   const std::size_t n = map.spawns.size();
+  const TriangleGrid grid(map.scene);
+  // Some spawns float above the floor (the game drops the player onto it):
+  // stand each one on the first surface below its feet.
+  std::vector<Q3Spawn> spawns = map.spawns;
+  constexpr double kOriginAboveFeet = 24.0 * kQ3MetresPerUnit;
+  for (Q3Spawn& s : spawns) {
+    const std::vector<double> below = grid.hitsBelow(s.origin);
+    if (below.empty()) continue;
+    const double drop = (s.origin.y - kOriginAboveFeet) - below.front();
+    if (drop > 0.05) {
+      s.origin.y -= drop;
+      s.eye.y -= drop;
+    }
+  }
   maxKeys = std::max(maxKeys, 2);
   std::map<std::pair<std::size_t, std::size_t>, bool> clearCache;
   auto clear = [&](std::size_t i, std::size_t j) {
@@ -1040,7 +1055,7 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     auto it = clearCache.find(key);
     if (it != clearCache.end()) return it->second;
     const bool c =
-        !segmentBlocked(map.scene, glm::vec3(map.spawns[i].eye), glm::vec3(map.spawns[j].eye));
+        !segmentBlocked(map.scene, glm::vec3(spawns[i].eye), glm::vec3(spawns[j].eye));
     clearCache.emplace(key, c);
     return c;
   };
@@ -1049,11 +1064,11 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     std::vector<bool> used(n, false);
     used[start] = true;
     while (chain.size() < static_cast<std::size_t>(maxKeys)) {
-      const glm::dvec3 from = map.spawns[chain.back()].eye;
+      const glm::dvec3 from = spawns[chain.back()].eye;
       std::vector<std::pair<double, std::size_t>> order;
       for (std::size_t j = 0; j < n; ++j)
-        if (!used[j] && glm::length(map.spawns[j].eye - from) > 0.5)
-          order.push_back({glm::length(map.spawns[j].eye - from), j});
+        if (!used[j] && glm::length(spawns[j].eye - from) > 0.5)
+          order.push_back({glm::length(spawns[j].eye - from), j});
       std::sort(order.begin(), order.end());
       std::optional<std::size_t> next;
       for (std::size_t k = 0; k < order.size() && k < 6 && !next; ++k)
@@ -1064,26 +1079,54 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     }
     return chain;
   };
-  std::vector<std::size_t> best;
-  for (std::size_t s = 0; s < n && s < 16 && best.size() < static_cast<std::size_t>(maxKeys); ++s) {
-    auto c = chainFrom(s);
-    if (c.size() > best.size()) best = std::move(c);
-  }
-
   CameraPath p;
   const double diag = glm::length(glm::dvec3(map.scene.boundsMax - map.scene.boundsMin));
   p.nearPlane = 0.05;
   p.farPlane = std::clamp(1.2 * diag, 50.0, 2000.0);
+  // The longest chain; among equally long ones, the one whose first view
+  // sees the least sky or void (open maps: not a start looking into the sky).
+  auto firstView = [&](const std::vector<std::size_t>& c) {
+    glm::dvec3 dir = c.size() > 1 ? spawns[c[1]].eye - spawns[c[0]].eye : spawns[c[0]].forward;
+    dir.y = 0.0;
+    if (glm::length(dir) < 1e-6) dir = spawns[c[0]].forward;
+    return openViewFraction(grid, spawns[c[0]].eye, dir, p.fovYDeg, p.farPlane, 12);
+  };
+  std::vector<std::size_t> best;
+  double bestOpen = 2.0;
+  for (std::size_t s = 0; s < n && s < 16; ++s) {
+    auto c = chainFrom(s);
+    if (c.size() < best.size()) continue;
+    const double open = firstView(c);
+    if (c.size() > best.size() || open < bestOpen) {
+      best = std::move(c);
+      bestOpen = open;
+    }
+  }
+
   p.frames = 120;
   p.keyframeEvery = 10;
   std::vector<glm::dvec3> eyes;
-  for (std::size_t i : best) eyes.push_back(map.spawns[i].eye);
-  if (eyes.size() < 2) eyes.push_back(eyes[0] + 2.0 * map.spawns[best[0]].forward);
+  for (std::size_t i : best) eyes.push_back(spawns[i].eye);
+  if (eyes.size() < 2) eyes.push_back(eyes[0] + 2.0 * spawns[best[0]].forward);
   for (std::size_t k = 0; k < eyes.size(); ++k) {
     glm::dvec3 dir = k + 1 < eyes.size() ? eyes[k + 1] - eyes[k] : eyes[k] - eyes[k - 1];
     dir.y = 0.0;  // look level, along the walk
-    if (glm::length(dir) < 1e-6) dir = map.spawns[best[std::min(k, best.size() - 1)]].forward;
-    p.keys.push_back({eyes[k], eyes[k] + 2.0 * glm::normalize(dir)});
+    if (glm::length(dir) < 1e-6) dir = spawns[best[std::min(k, best.size() - 1)]].forward;
+    dir = glm::normalize(dir);
+    // Look down a little (up to 15°) where looking level sees mostly sky.
+    glm::dvec3 look = dir;
+    double lookOpen = 2.0;
+    for (double deg : {0.0, 5.0, 10.0, 15.0}) {
+      const double a = deg * 3.14159265358979323846 / 180.0;
+      const glm::dvec3 d = std::cos(a) * dir - std::sin(a) * glm::dvec3(0, 1, 0);
+      const double open = openViewFraction(grid, eyes[k], d, p.fovYDeg, p.farPlane, 12);
+      if (open < lookOpen - 0.02) {
+        look = d;
+        lookOpen = open;
+      }
+      if (lookOpen < 0.4) break;
+    }
+    p.keys.push_back({eyes[k], eyes[k] + 2.0 * look});
   }
   return p;
 }

@@ -99,10 +99,13 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
 // not a zip, truncated, missing map (listing the maps that do exist).
 Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options);
 
-// A walk at eye height through the spawns: from the spawn that starts the
-// longest chain, each next key is the nearest unvisited spawn in clear line
-// of sight of the previous one (the segment between their eyes hits no
-// triangle), up to `maxKeys` keys; each key looks towards the next.
+// A walk at eye height through the spawns, each first stood on the surface
+// below it (spawns may float; the game drops the player): from the spawn
+// that starts the longest chain (ties: the one whose first view sees the
+// least sky/void), each next key is the nearest unvisited spawn in clear
+// line of sight of the previous one (the segment between their eyes hits no
+// triangle), up to `maxKeys` keys; each key looks towards the next, level,
+// or up to 15° down where looking level sees mostly sky or void.
 // Catmull-Rom as CameraPath does; 120 frames, a keyframe every 10, near
 // 0.05 m, far from the map's size. A map whose spawns see no other spawn
 // walks 2 m forward from its first spawn; a map without spawns gets

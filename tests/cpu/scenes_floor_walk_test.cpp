@@ -4,6 +4,9 @@
 // is an error (the caller's orbit fallback).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <random>
+
 #include "scenes/floor_walk.h"
 #include "scenes/outdoor_scenes.h"
 
@@ -78,6 +81,49 @@ TEST(FloorWalk, NoFloorIsAnError) {
   auto p = floorWalkPath(s);
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.error().message.find("wall: no"), std::string::npos) << p.error().message;
+}
+
+// TriangleGrid::rayHit against testing every triangle, on the level from
+// random eyes in random directions; and the open view fraction of a camera
+// inside the roofed level (0) and one above it looking up (1).
+TEST(FloorWalk, RayHitMatchesBruteForceAndOpenViews) {
+  const Scene s = roofedLevel();
+  const TriangleGrid grid(s, 1.5);
+  std::vector<std::array<glm::dvec3, 3>> tris;
+  for (const Mesh& m : s.meshes)
+    for (std::size_t i = 0; i < m.indices.size(); i += 3)
+      tris.push_back({glm::dvec3(m.vertices[m.indices[i]].position),
+                      glm::dvec3(m.vertices[m.indices[i + 1]].position),
+                      glm::dvec3(m.vertices[m.indices[i + 2]].position)});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-25, 25), d(-1, 1);
+  for (int k = 0; k < 300; ++k) {
+    const glm::dvec3 o(u(rng), 0.5 * u(rng) + 2, u(rng));
+    glm::dvec3 dir(d(rng), d(rng), d(rng));
+    if (glm::length(dir) < 0.1) continue;
+    dir = glm::normalize(dir);
+    double best = 1e300;
+    for (const auto& t : tris) {  // Möller–Trumbore, both sides
+      const glm::dvec3 e1 = t[1] - t[0], e2 = t[2] - t[0], p = glm::cross(dir, e2);
+      const double det = glm::dot(e1, p);
+      if (std::abs(det) < 1e-14) continue;
+      const glm::dvec3 sv = o - t[0];
+      const double a = glm::dot(sv, p) / det;
+      const glm::dvec3 q = glm::cross(sv, e1);
+      const double b = glm::dot(dir, q) / det;
+      const double tt = glm::dot(e2, q) / det;
+      if (a >= 0 && b >= 0 && a + b <= 1 && tt > 1e-9) best = std::min(best, tt);
+    }
+    const auto hit = grid.rayHit(o, dir, 100.0);
+    if (best <= 100.0) {
+      ASSERT_TRUE(hit.has_value()) << k;
+      EXPECT_NEAR(*hit, best, 1e-6) << k;
+    } else {
+      EXPECT_FALSE(hit.has_value()) << k << " " << *hit;
+    }
+  }
+  EXPECT_EQ(openViewFraction(grid, {10, 1.7, -10}, {1, 0, 0}, 60, 1000), 0.0);
+  EXPECT_EQ(openViewFraction(grid, {0, 10, 0}, {0, 1, 0.01}, 60, 1000), 1.0);
 }
 
 }  // namespace
