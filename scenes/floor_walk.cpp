@@ -143,12 +143,36 @@ Result<CameraPath> floorWalkPath(const Scene& scene, const FloorWalkOptions& opt
   path.keyframeEvery = options.keyframeEvery;
   path.nearPlane = std::max(1e-4, 0.05 * eye);
   path.farPlane = std::max(10.0 * path.nearPlane, 3.0 * glm::length(ext));
-  for (std::size_t k = 0; k < keys.size(); ++k) {
+  auto gazeOf = [&](std::size_t k) {
     glm::dvec3 target = keys[std::min(k + 2, keys.size() - 1)];
     if (k + 1 >= keys.size()) target = keys[k] + (keys[k] - keys[k - 1]);
-    target.y = keys[k].y;  // look level, along the way
-    if (glm::length(target - keys[k]) < 1e-9) target = keys[k] + glm::dvec3(cell, 0, 0);
-    path.keys.push_back({keys[k], target});
+    glm::dvec3 d = target - keys[k];
+    d.y = 0.0;  // level, along the way
+    return glm::length(d) < 1e-9 ? glm::dvec3(1, 0, 0) : glm::normalize(d);
+  };
+  // Walk the route the way whose first view sees less sky or void.
+  {
+    const double fwd = openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
+    std::reverse(keys.begin(), keys.end());
+    const double back = openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
+    if (fwd <= back) std::reverse(keys.begin(), keys.end());
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const glm::dvec3 dir = gazeOf(k);
+    // Look down a little (up to 15°) where looking level sees mostly sky.
+    glm::dvec3 look = dir;
+    double lookOpen = 2.0;
+    for (double deg : {0.0, 5.0, 10.0, 15.0}) {
+      const double pitch = deg * 3.14159265358979323846 / 180.0;
+      const glm::dvec3 d = std::cos(pitch) * dir - std::sin(pitch) * glm::dvec3(0, 1, 0);
+      const double open = openViewFraction(grid, keys[k], d, path.fovYDeg, path.farPlane, 12);
+      if (open < lookOpen - 0.02) {
+        look = d;
+        lookOpen = open;
+      }
+      if (lookOpen < 0.4) break;
+    }
+    path.keys.push_back({keys[k], keys[k] + look * std::max(cell, eye)});
   }
   return path;
 }

@@ -21,8 +21,9 @@ struct FloorWalkOptions {
   int keyframeEvery = 10;
 };
 
-// A path at eye height over the floor: each key looks at the route two keys
-// ahead. Cells count as floor where a surface has headroom for 1.25 × the
+// A path at eye height over the floor, walked the way whose first view sees
+// less sky or void: each key looks towards the route two keys ahead, level,
+// or up to 15° down where looking level sees mostly sky or void. Cells count as floor where a surface has headroom for 1.25 × the
 // eye height above it; neighbours join when their floors differ by at most
 // half the eye height (stairs) and the eye can move between them without
 // coming within 0.25 × the eye height of a surface. Error (saying why) when

@@ -30,6 +30,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/floor_walk.h"
 #include "scenes/torcs_track.h"
 
 namespace hw::scenes {
@@ -931,6 +932,14 @@ std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
   }
   auto scene = loadBlendFile(**file);
   if (!scene) return Result<CameraPath>(scene.error());
+  // On foot over the environment's floor (indoors under its roof); the
+  // circle below where no floor is found.
+  FloorWalkOptions fw;
+  fw.eyeHeight = options.eyeHeight > 0 ? options.eyeHeight : 1.7;
+  fw.frames = 240;
+  auto floor = floorWalkPath(*scene, fw);
+  if (floor) return floor;
+  if (notes) notes->push_back(floor.error().message + "; walking a circle over the terrain instead");
   const TriangleGrid grid(*scene);
   const glm::dvec3 lo(scene->boundsMin), hi(scene->boundsMax), c = 0.5 * (lo + hi);
   const double r = 0.25 * std::min(hi.x - lo.x, hi.z - lo.z);

@@ -122,7 +122,9 @@ std::optional<Result<Scene>> loadOutdoorFile(const std::string& path);
 std::optional<Result<Scene>> loadOutdoorSpec(const std::string& spec);
 // Their default paths: for tracks torcsDefaultPath (scenes/torcs_track.h:
 // the track description's centreline, else drivePath's trace); for .blend
-// scenes a terrainWalkPath around a circle of 0.25 × the smaller ground extent.
+// scenes a floorWalkPath at 1.7 m (scenes/floor_walk.h), else (no floor
+// found, with a note) a terrainWalkPath around a circle of 0.25 × the
+// smaller ground extent.
 std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
                                                      const DefaultPathOptions& options = {},
                                                      std::vector<std::string>* notes = nullptr);

@@ -70,7 +70,9 @@ try:
 except OSError:
     pass
 status, reason = "ok", ""
-if rrc != 0:
+if rrc >= 128:
+    status, reason = "FAIL", "render crashed (signal %d) while loading the scene" % (rrc - 128)
+elif rrc != 0:
     status, reason = "FAIL", "render: " + last_error(d + "/render.err")
 else:
     f = json.load(open(d + "/render/render.json"))["summary"]["first_frame"]

@@ -53,7 +53,7 @@ TEST(FloorWalk, WalksTheFloorUnderTheRoofAtEyeHeight) {
     EXPECT_NEAR(*c.floorDrop, 1.7, 0.05);
     EXPECT_GT(c.clearance, 0.2) << "frame " << k << " at " << e.x << "," << e.z;
     // Looking along the way, level.
-    EXPECT_NEAR(cams[k].forward.y, 0.0, 1e-6);
+    EXPECT_NEAR(cams[k].forward.y, 0.0, 1e-6);  // under a roof: never needs to look down
     if (k) travelled += glm::length(e - cams[k - 1].eye);
   }
   // The route crosses the level (its longest shortest path): through the
