@@ -343,8 +343,8 @@ Result<Loaded> loadInputs(const Common& o) {
   if (o.path.empty()) {
     std::vector<std::string> notes;
     auto p = scenes::defaultPathFor(o.scene, o.pathOptions, &notes);
-    if (!p) return p.error();
     for (const auto& n : notes) std::fprintf(stderr, "hybridwalk: note: %s\n", n.c_str());
+    if (!p) return p.error();
     l.path = std::move(*p);
   }
   if (!o.resolution.empty()) {
@@ -386,8 +386,11 @@ int runRender(const Common& o, const std::string& outDir, bool quiet) {
     if (auto s = (*r)->renderKeyframe(c0, kf); !s) return fail(s.error().message);
     std::size_t empty = 0;
     for (std::uint8_t c : kf.covered.pixels()) empty += c == 0;
-    const auto eye = scenes::checkEye(scenes::TriangleGrid(in->scene), c0.eye);
+    const scenes::TriangleGrid grid(in->scene);
+    const auto eye = scenes::checkEye(grid, c0.eye);
     first = {{"empty_fraction", static_cast<double>(empty) / static_cast<double>(kf.covered.pixels().size())},
+             {"sky_or_void_fraction", scenes::openViewFraction(grid, c0.eye, c0.forward, in->path.fovYDeg,
+                                                               in->path.farPlane, 64)},
              {"floor_drop", eye.floorDrop ? json(*eye.floorDrop) : json(nullptr)},
              {"clearance", eye.clearance}};
   }

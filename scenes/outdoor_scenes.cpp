@@ -982,11 +982,15 @@ double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm
 
 TriangleGrid::TriangleGrid(const Scene& scene, double cellSize) : cellSize_(cellSize) {
   HW_CHECK(cellSize > 0);
-  for (const Mesh& m : scene.meshes)
+  for (const Mesh& m : scene.meshes) {
+    if (m.material >= 0 && static_cast<std::size_t>(m.material) < scene.materials.size() &&
+        scene.materials[static_cast<std::size_t>(m.material)].sky)
+      continue;
     for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
       tris_.push_back({glm::dvec3(m.vertices[m.indices[i]].position),
                        glm::dvec3(m.vertices[m.indices[i + 1]].position),
                        glm::dvec3(m.vertices[m.indices[i + 2]].position)});
+  }
   if (tris_.empty()) return;
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (const Tri& t : tris_)

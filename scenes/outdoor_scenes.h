@@ -131,8 +131,9 @@ std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
 
 // ---------------------------------------------------------------- queries
 
-// Uniform grid over a scene's triangles (world space) for ground-height and
-// clearance queries; brute force inside cells. Built once, read-only after.
+// Uniform grid over a scene's triangles (world space) for ground-height,
+// clearance and ray queries; brute force inside cells. Sky surfaces
+// (Material::sky) are left out. Built once, read-only after.
 class TriangleGrid {
  public:
   explicit TriangleGrid(const Scene& scene, double cellSize = 2.0);

@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -422,14 +423,23 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     shaders[i].contents = readI32(p + 68);
   }
   std::map<std::string, int> textureByPath;
+  std::vector<glm::vec2> uvScaleOf;  // per material: its stage's tcMod scale
   auto materialFor = [&](std::size_t shaderIndex) -> int {
     ShaderInfo& sh = shaders[shaderIndex];
     if (sh.material != -2) return sh.material;
-    if (skipReason(sh.lower, sh.flags, sh.contents)) return sh.material = -1;
+    const char* why = skipReason(sh.lower, sh.flags, sh.contents);
+    const bool sky = why && std::strcmp(why, "sky") == 0;
+    if (why && !sky) return sh.material = -1;
     Material m;
     m.name = sh.name;
     Q3Texture t;
     if (resolve) t = resolve(sh.name);
+    if (sky) {  // drawn only with an image: the sky's own (unlit, both sides)
+      if (t.image.empty()) return sh.material = -1;
+      m.sky = m.unlit = true;
+      t.twoSided = true;
+      t.alphaTest = false;
+    }
     m.twoSided = t.twoSided;
     m.alphaTest = t.alphaTest;
     m.alphaCutoff = t.alphaCutoff;
@@ -453,6 +463,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
       scene.textures.push_back(std::move(tex));
     }
     scene.materials.push_back(std::move(m));
+    uvScaleOf.push_back(t.uvScale);
     return sh.material = static_cast<int>(scene.materials.size()) - 1;
   };
 
@@ -525,9 +536,13 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
                          " of lump 10 (vertices) has a non-finite position or texture coordinate");
     }
 
-    if (skipReason(shaders[shader].lower, shaders[shader].flags, shaders[shader].contents)) {
-      ++map.stats.skippedFaces;
-      continue;
+    if (const char* why =
+            skipReason(shaders[shader].lower, shaders[shader].flags, shaders[shader].contents)) {
+      if (std::strcmp(why, "sky") != 0 || materialFor(static_cast<std::size_t>(shader)) < 0) {
+        ++map.stats.skippedFaces;
+        continue;
+      }
+      ++map.stats.skyFaces;
     }
     const std::size_t faceTris =
         type == kPatch ? static_cast<std::size_t>((patchW - 1) / 2) *
@@ -589,7 +604,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
         Vertex out;
         out.position = yUp(v.xyz) * static_cast<float>(kQ3MetresPerUnit);
         out.normal = yUp(finite(v.normal) ? safeNormalize(v.normal, faceNormal) : faceNormal);
-        out.uv = v.st;
+        out.uv = v.st * uvScaleOf[static_cast<std::size_t>(material)];
         mesh.vertices.push_back(out);
       }
       for (std::size_t t = 0; t + 2 < tri.size(); t += 3)
@@ -646,7 +661,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
         Vertex out;
         out.position = yUp(s.p) * static_cast<float>(kQ3MetresPerUnit);
         out.normal = yUp(safeNormalize(sign * c, glm::vec3(0, 0, 1)));
-        out.uv = s.st;
+        out.uv = s.st * uvScaleOf[static_cast<std::size_t>(material)];
         mesh.vertices.push_back(out);
       }
     for (int gy = 0; gy + 1 < gh; ++gy)
@@ -811,6 +826,9 @@ struct ShaderDef {
   bool twoSided = false;
   bool alphaTest = false;
   float alphaCutoff = 0.5f;
+  glm::vec2 uvScale{1.0f};         // the first image stage's tcMod scale
+  std::string skyBox;              // skyParms far box (e.g. env/sky1), "" for none
+  std::set<std::string> notDrawn;  // features we do not draw
 };
 
 // Parses one scripts/*.shader text into `defs` (later definitions replace
@@ -832,17 +850,21 @@ std::string parseShaderScript(std::string_view text, const std::string& where,
     std::string stageImage;
     bool stageAlpha = false;
     float stageCutoff = 0.5f;
+    glm::vec2 stageScale(1.0f);
+    int stages = 0;
     std::optional<Token> t = tok.next();
     while (t && depth > 0) {
       if (isBrace(*t, '{')) {
         ++depth;
-        stageImage.clear(), stageAlpha = false;
+        if (depth == 2 && ++stages == 2) def.notDrawn.insert("further stages (only the first image stage is drawn)");
+        stageImage.clear(), stageAlpha = false, stageScale = glm::vec2(1.0f);
         t = tok.next();
         continue;
       }
       if (isBrace(*t, '}')) {
         if (depth == 2 && !stageHasImage && !stageImage.empty()) {
           def.image = stageImage, def.alphaTest = stageAlpha, def.alphaCutoff = stageCutoff;
+          def.uvScale = stageScale;
           stageHasImage = true;
         }
         if (--depth == 0) break;  // the next token is the next shader's name
@@ -862,10 +884,34 @@ std::string parseShaderScript(std::string_view text, const std::string& where,
           const std::string a = toLower(args[0]);
           def.twoSided = a == "none" || a == "disable" || a == "twosided";
         }
+        if (key == "skyparms" && !args.empty() && args[0] != "-") def.skyBox = args[0];
+        if (key == "deformvertexes") def.notDrawn.insert("deformVertexes");
       } else if (depth == 2) {
         std::string img;
         if ((key == "map" || key == "clampmap") && !args.empty()) img = args[0];
-        if (key == "animmap" && args.size() >= 2) img = args[1];
+        if (key == "animmap" && args.size() >= 2) {
+          img = args[1];
+          def.notDrawn.insert("animMap animation (first frame drawn)");
+        }
+        if ((key == "map" || key == "clampmap") && !args.empty() && toLower(args[0]) == "$lightmap")
+          def.notDrawn.insert("lightmaps");
+        if (key == "tcmod" && !args.empty()) {
+          const std::string op = toLower(args[0]);
+          if (op == "scale" && args.size() >= 3) {
+            const float su = std::strtof(args[1].c_str(), nullptr);
+            const float sv = std::strtof(args[2].c_str(), nullptr);
+            if (std::isfinite(su) && std::isfinite(sv) && std::abs(su) < 1e4f && std::abs(sv) < 1e4f)
+              stageScale = glm::vec2(su, sv);
+          } else {
+            def.notDrawn.insert("tcMod " + op);
+          }
+        }
+        if (key == "tcgen" && !args.empty() && toLower(args[0]) != "base" &&
+            toLower(args[0]) != "texture")
+          def.notDrawn.insert("tcGen " + toLower(args[0]));
+        if ((key == "rgbgen" || key == "alphagen") && !args.empty() &&
+            toLower(args[0]) != "identity" && toLower(args[0]) != "identitylighting")
+          def.notDrawn.insert(key == "rgbgen" ? "rgbGen " + toLower(args[0]) : "alphaGen " + toLower(args[0]));
         if (!img.empty() && img[0] != '$' && img[0] != '*' && stageImage.empty()) stageImage = img;
         if (key == "alphafunc" && !args.empty()) {
           const std::string a = toLower(args[0]);
@@ -932,6 +978,7 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
   }
 
   std::unordered_map<std::string, Image<Rgba8>> decoded;
+  std::map<std::string, int> notDrawnCount;  // feature → shaders of this map using it
   // The game's image lookup: the name without extension, as .tga, then .jpg.
   auto findImage = [&](const std::string& name) -> const Pk3Set::Entry* {
     const std::string stem = stripExtension(name);
@@ -948,7 +995,10 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       t.twoSided = it->second.twoSided;
       t.alphaTest = it->second.alphaTest;
       t.alphaCutoff = it->second.alphaCutoff;
-      for (const std::string& n : {it->second.image, shaderName, it->second.editor}) {
+      t.uvScale = it->second.uvScale;
+      for (const std::string& f : it->second.notDrawn) ++notDrawnCount[f];
+      const std::string skyUp = it->second.skyBox.empty() ? "" : it->second.skyBox + "_up";
+      for (const std::string& n : {it->second.image, skyUp, shaderName, it->second.editor}) {
         if (n.empty() || e) continue;
         e = findImage(n);
         tried += (tried.empty() ? "" : ", ") + stripExtension(n) + ".tga/.jpg";
@@ -993,6 +1043,12 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
 
   auto map = parseQ3Bsp(*bytes, pk3s->describe(**entry), resolve, options);
   if (!map) return map.error();
+  if (!notDrawnCount.empty()) {
+    std::string list;
+    for (const auto& [f, n] : notDrawnCount)
+      list += (list.empty() ? "" : ", ") + f + " (" + std::to_string(n) + ")";
+    map->scene.warnings.push_back(map->scene.name + ": shader features not drawn (shaders using them): " + list);
+  }
   map->scene.name = mapName;
   map->scene.warnings.insert(map->scene.warnings.begin(), warnings.begin(), warnings.end());
   return map;
@@ -1006,6 +1062,7 @@ bool segmentBlocked(const Scene& scene, const glm::vec3& a, const glm::vec3& b) 
   const glm::vec3 d = b - a;
   const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
   for (const Mesh& m : scene.meshes) {
+    if (scene.materials[static_cast<std::size_t>(m.material)].sky) continue;
     if (glm::any(glm::lessThan(m.boundsMax, lo)) || glm::any(glm::greaterThan(m.boundsMin, hi)))
       continue;
     for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {

@@ -76,7 +76,8 @@ elif rrc != 0:
     status, reason = "FAIL", "render: " + last_error(d + "/render.err")
 else:
     f = json.load(open(d + "/render/render.json"))["summary"]["first_frame"]
-    row["empty_fraction"] = "%.3f" % f["empty_fraction"]
+    open_ = f["sky_or_void_fraction"]
+    row["empty_fraction"] = "%.3f" % open_
     row["floor_drop"] = "" if f["floor_drop"] is None else "%.2f" % f["floor_drop"]
     row["clearance"] = "%.2f" % f["clearance"]
     eye_ok = f["floor_drop"] is not None and f["floor_drop"] <= 3.0 and f["clearance"] >= 0.1
@@ -85,7 +86,7 @@ else:
     if f["floor_drop"] is None: why.append("no floor below the first eye")
     elif f["floor_drop"] > 3.0: why.append("first eye %.1f m above the floor" % f["floor_drop"])
     if f["clearance"] < 0.1: why.append("first eye %.2f m from a surface (inside a wall?)" % f["clearance"])
-    if f["empty_fraction"] >= 0.5: why.append("first frame %.0f %% sky/void" % (100 * f["empty_fraction"]))
+    if open_ >= 0.5: why.append("first frame %.0f %% sky/void" % (100 * open_))
     if wrc != 0:
         why.append("walk: " + last_error(d + "/walk.err"))
     else:
@@ -114,9 +115,10 @@ for r in rows:
     kinds[k][0] += 1
     kinds[k][1] += r["status"] == "ok"
 out.write("# Scene zoo: every scene from its default path (%s, %s frames)\n\n" % (sys.argv[4], sys.argv[3]))
-out.write("Pass: the walk runs, the first eye has a floor within 3 m below it and no surface within 0.1 m, and the first frame is less than half sky/void (pixels where nothing is drawn).\n\n")
+out.write("Pass: the walk runs, the first eye has a floor within 3 m below it and no surface within 0.1 m, and the first frame is less than half sky/void (64 x 64 rays through the first camera that hit no surface other than sky within the far plane).\n\n")
 for k, (n, ok) in kinds.items():
     out.write("- %s: %d of %d pass\n" % (k, ok, n))
+out.write("\nContact sheet (contact_sheet.png): the first frames in the table's order, 8 per row.\n")
 out.write("\n| scene | triangles | load s | PSNR median / p5 dB | frame / geometry ms | sky/void | floor drop m | eye ok | status |\n")
 out.write("|---|---:|---:|---:|---:|---:|---:|---|---|\n")
 for r in rows:
@@ -126,29 +128,14 @@ for r in rows:
         r["geometry_ms"], r["empty_fraction"], r["floor_drop"], r["eye_ok"], st))
 EOF
 
-# Contact sheet: first frames, labelled, 8 per row.
-if command -v convert >/dev/null; then
-  imgs=()
-  for spec in $specs; do
-    d="$out/runs/$(echo "$spec" | tr ':/' '__')"
-    f="$d/render/0000.png"
-    lab="$d/label.png"
-    if [ -f "$f" ]; then
-      convert "$f" -resize 160x160 -gravity south -background white -splice 0x14 \
-        -pointsize 11 -annotate +0+1 "$spec" "$lab" 2>/dev/null && imgs+=("$lab")
-    else
-      convert -size 160x174 xc:grey70 -gravity center -pointsize 11 -annotate +0+0 "$spec\nFAILED" \
-        "$lab" 2>/dev/null && imgs+=("$lab")
-    fi
-  done
-  rows=()
-  for ((i = 0; i < ${#imgs[@]}; i += 8)); do
-    r="$out/runs/row_$i.png"
-    convert "${imgs[@]:i:8}" +append "$r" && rows+=("$r")
-  done
-  [ ${#rows[@]} -gt 0 ] && convert "${rows[@]}" -background white -append "$out/contact_sheet.png"
-  rm -f "$out"/runs/row_*.png
-fi
+# Contact sheet: first frames, 8 per row in the table's order (a crossed
+# grey tile where a scene has no first frame).
+imgs=()
+for spec in $specs; do
+  f="$out/runs/$(echo "$spec" | tr ':/' '__')/render/0000.png"
+  [ -f "$f" ] && imgs+=("$f") || imgs+=(-)
+done
+python3 "$here/scripts/contact_sheet.py" "$out/contact_sheet.png" 8 128 "${imgs[@]}"
 fails=$(grep -c ',FAIL,' "$csv")
 echo "zoo: $(($(wc -l <"$csv") - 1)) scenes, $fails failed; $out/zoo.md" >&2
 [ "$fails" -eq 0 ]
