@@ -274,7 +274,8 @@ struct BuiltinSpec {
 
 const char* const kBuiltinHelp =
     "built-in scenes: indoor, outdoor, indoor:N, outdoor:N (N = target triangles, e.g. 100k, 1M; "
-    "default 100k); q3:MAPNAME for an OpenArena map (see `hybridwalk scenes fetch`)";
+    "default 100k); q3:MAP, torcs:TRACK, morse:ENV/FILE after `hybridwalk scenes fetch "
+    "[--outdoor]`; `hybridwalk scenes list` names them all";
 
 // nullopt: not a built-in name; error: a built-in name with a bad count.
 Result<std::optional<BuiltinSpec>> parseBuiltin(const std::string& spec) {
