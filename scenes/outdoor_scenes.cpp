@@ -1048,7 +1048,10 @@ std::vector<double> TriangleGrid::hitsBelow(const glm::dvec3& from) const {
       const double l2 =
           ((t.c.z - t.a.z) * (from.x - t.c.x) + (t.a.x - t.c.x) * (from.z - t.c.z)) / d;
       const double l3 = 1 - l1 - l2;
-      if (l1 < 0 || l2 < 0 || l3 < 0) continue;
+      // A point on a shared edge (spawns and floors on the same grid) must
+      // not fall through the crack between two triangles.
+      constexpr double kEdge = -1e-7;
+      if (l1 < kEdge || l2 < kEdge || l3 < kEdge) continue;
       const double h = l1 * t.a.y + l2 * t.b.y + l3 * t.c.y;
       if (h <= from.y) hits.push_back(h);
     }

@@ -9,6 +9,7 @@
 
 #include "scenes/floor_walk.h"
 #include "scenes/outdoor_scenes.h"
+#include "scenes/q3bsp.h"
 
 namespace hw::scenes {
 namespace {
@@ -124,6 +125,29 @@ TEST(FloorWalk, RayHitMatchesBruteForceAndOpenViews) {
   }
   EXPECT_EQ(openViewFraction(grid, {10, 1.7, -10}, {1, 0, 0}, 60, 1000), 0.0);
   EXPECT_EQ(openViewFraction(grid, {0, 10, 0}, {0, 1, 0.01}, 60, 1000), 1.0);
+}
+
+// A spawn exactly over the floor's edge (Quake units → metres in double,
+// the floor's vertices in float) is above the floor: from oa_pvomit, where
+// it fell through by rounding, 1e-7 m outside the float edge.
+TEST(FloorWalk, HitsBelowOnTheFloorsEdge) {
+  Scene s;
+  s.materials.push_back(Material{});
+  Mesh m;
+  m.vertices = {{{-1.2192f, -4.064f, -34.9504f}}, {{-1.2192f, -4.064f, -39.8272f}},
+                {{-2.6416f, -4.064f, -34.9504f}}, {{-2.6416f, -4.064f, -39.8272f}},
+                // the lower floor beyond the step, further out
+                {{-9.0f, -5.0f, -30.0f}}, {{-9.0f, -5.0f, -45.0f}}, {{-8.0f, -5.0f, -30.0f}}};
+  m.indices = {0, 1, 2, 1, 3, 2, 4, 5, 6};
+  m.computeBounds();
+  s.meshes.push_back(std::move(m));
+  s.computeBounds();
+  const TriangleGrid grid(s, 2.0);
+  const glm::dvec3 spawn(-104 * kQ3MetresPerUnit, 0.0, -1544 * kQ3MetresPerUnit);
+  ASSERT_FALSE(grid.hitsBelow(spawn).empty());
+  EXPECT_NEAR(grid.hitsBelow(spawn)[0], -4.064, 1e-6);
+  // Well outside the edge (1 mm) is not.
+  EXPECT_TRUE(grid.hitsBelow(spawn - glm::dvec3(0.001, 0, 0)).empty());
 }
 
 }  // namespace
