@@ -315,7 +315,8 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  c->add_option("--resolution", o.resolution, "Frame size WxH in pixels, e.g. 256x256 (default: the path's)");
+  c->add_option("--resolution", o.resolution,
+                "Frame size WxH in pixels, e.g. 256x256 (default: the path's)");
 }
 
 struct Loaded {
@@ -328,6 +329,13 @@ Result<Loaded> loadInputs(const Common& o) {
   Loaded l;
   // Validate the cheap inputs first, so a bad path file fails before a
   // large scene is generated or loaded.
+  glm::ivec2 size(0);
+  char x = 0, extra = 0;
+  if (!o.resolution.empty() &&
+      (std::sscanf(o.resolution.c_str(), "%d%c%d%c", &size.x, &x, &size.y, &extra) != 3 ||
+       x != 'x' || size.x < 16 || size.y < 16 || size.x > 16384 || size.y > 16384))
+    return makeError("--resolution: expected WxH with 16..16384 pixels each, e.g. 256x256, got '" +
+                     o.resolution + "'");
   if (!o.path.empty()) {
     auto p = scenes::loadCameraPath(o.path);
     if (!p) return p.error();
@@ -347,16 +355,7 @@ Result<Loaded> loadInputs(const Common& o) {
     if (!p) return p.error();
     l.path = std::move(*p);
   }
-  if (!o.resolution.empty()) {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(o.resolution.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 16 ||
-        h < 16 || w > 16384 || h > 16384)
-      return makeError("--resolution: expected WxH with 16..16384 pixels each, e.g. 256x256, got '" +
-                       o.resolution + "'");
-    l.path.width = w;
-    l.path.height = h;
-  }
+  if (!o.resolution.empty()) l.path.width = size.x, l.path.height = size.y;
   auto ctx = gl::createHeadlessContext();
   if (!ctx) return ctx.error();
   l.context = std::move(*ctx);
@@ -388,9 +387,10 @@ int runRender(const Common& o, const std::string& outDir, bool quiet) {
     for (std::uint8_t c : kf.covered.pixels()) empty += c == 0;
     const scenes::TriangleGrid grid(in->scene);
     const auto eye = scenes::checkEye(grid, c0.eye);
-    first = {{"empty_fraction", static_cast<double>(empty) / static_cast<double>(kf.covered.pixels().size())},
-             {"sky_or_void_fraction", scenes::openViewFraction(grid, c0.eye, c0.forward, in->path.fovYDeg,
-                                                               in->path.farPlane, 64)},
+    const double pixels = static_cast<double>(kf.covered.pixels().size());
+    first = {{"empty_fraction", static_cast<double>(empty) / pixels},
+             {"sky_or_void_fraction", scenes::openViewFraction(grid, c0.eye, c0.forward,
+                                                               in->path.fovYDeg, in->path.farPlane, 64)},
              {"floor_drop", eye.floorDrop ? json(*eye.floorDrop) : json(nullptr)},
              {"clearance", eye.clearance}};
   }
@@ -1220,8 +1220,8 @@ int main(int argc, char** argv) {
   }
   if (listCmd->parsed()) {
     for (const auto& e : scenes::listScenes(cacheDir))
-      std::printf("%-9s %-28s %s%s\n", e.kind.c_str(), e.spec.c_str(), e.fetched ? "" : "NOT FETCHED: ",
-                  e.note.c_str());
+      std::printf("%-9s %-30s %s%s\n", e.kind.c_str(), e.spec.c_str(),
+                  e.fetched ? "" : "NOT FETCHED: ", e.note.c_str());
     return 0;
   }
 
