@@ -13,7 +13,8 @@ namespace fs = std::filesystem;
 
 std::vector<SceneEntry> listScenes(const std::string& cacheDir) {
   std::vector<SceneEntry> out;
-  out.push_back({"built-in", "indoor", true, "procedural rooms; indoor:N for ~N triangles (e.g. indoor:1M)"});
+  out.push_back(
+      {"built-in", "indoor", true, "procedural rooms; indoor:N for ~N triangles (e.g. indoor:1M)"});
   out.push_back({"built-in", "outdoor", true, "procedural terrain; outdoor:N for ~N triangles"});
 
   const auto pk3s = defaultPk3Paths(cacheDir);
@@ -22,9 +23,9 @@ std::vector<SceneEntry> listScenes(const std::string& cacheDir) {
   if (maps.ok() && !maps->empty()) {
     for (const std::string& m : *maps) out.push_back({"q3", "q3:" + m, true, "OpenArena map"});
   } else {
-    out.push_back({"q3", "q3:MAP", false,
-                   maps.ok() ? "run `hybridwalk scenes fetch`"
-                             : "cannot list: " + maps.error().message});
+    out.push_back(
+        {"q3", "q3:MAP", false,
+         maps.ok() ? "run `hybridwalk scenes fetch`" : "cannot list: " + maps.error().message});
   }
 
   const fs::path root = fs::path(cacheDir) / "root" / "usr" / "share";
@@ -44,7 +45,8 @@ std::vector<SceneEntry> listScenes(const std::string& cacheDir) {
       }
     }
   }
-  std::sort(tracks.begin(), tracks.end(), [](const auto& a, const auto& b) { return a.spec < b.spec; });
+  std::sort(tracks.begin(), tracks.end(),
+            [](const auto& a, const auto& b) { return a.spec < b.spec; });
   if (tracks.empty())
     tracks.push_back({"torcs", "torcs:TRACK", false, "run `hybridwalk scenes fetch --outdoor`"});
   out.insert(out.end(), tracks.begin(), tracks.end());

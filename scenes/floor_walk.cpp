@@ -152,9 +152,11 @@ Result<CameraPath> floorWalkPath(const Scene& scene, const FloorWalkOptions& opt
   };
   // Walk the route the way whose first view sees less sky or void.
   {
-    const double fwd = openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
+    const double fwd =
+        openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
     std::reverse(keys.begin(), keys.end());
-    const double back = openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
+    const double back =
+        openViewFraction(grid, keys.front(), gazeOf(0), path.fovYDeg, path.farPlane, 12);
     if (fwd <= back) std::reverse(keys.begin(), keys.end());
   }
   for (std::size_t k = 0; k < keys.size(); ++k) {

@@ -4,12 +4,12 @@
 #include "scenes/torcs_track.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <unordered_map>
@@ -321,8 +321,9 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
   }
   const XmlSection* main = root.child("Main Track");
   if (!main)
-    return makeError(source + ": no <section name=\"Main Track\"> (expected a TORCS track "
-                              "description with the main track's segments)");
+    return makeError(source +
+                     ": no <section name=\"Main Track\"> (expected a TORCS track "
+                     "description with the main track's segments)");
   auto w = number(*main, "width", source, "Main Track");
   if (!w) return w.error();
   if (*w) {
@@ -382,9 +383,9 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
         return makeError(at + ": an arc needs 'radius' in (0, 100000) m, got " +
                          (*r ? std::to_string(**r) : std::string("none")));
       if (!*arc || !(**arc > 0.0 && **arc <= 4 * kPi))
-        return makeError(at + ": an arc needs 'arc' in (0, 720] deg, got " +
-                         (*arc ? std::to_string(**arc * 180.0 / kPi) + " deg"
-                               : std::string("none")));
+        return makeError(
+            at + ": an arc needs 'arc' in (0, 720] deg, got " +
+            (*arc ? std::to_string(**arc * 180.0 / kPi) + " deg" : std::string("none")));
       seg.radiusMetres = **r;
       seg.endRadiusMetres = *re ? **re : **r;
       if (!(seg.endRadiusMetres > 0.0 && seg.endRadiusMetres < 1e5))
@@ -528,9 +529,7 @@ namespace {
 struct VertexHash {
   static constexpr double kCell = 0.5;
   std::unordered_map<std::int64_t, std::vector<glm::dvec2>> cells;
-  static std::int64_t key(std::int64_t x, std::int64_t z) {
-    return (x << 32) ^ (z & 0xffffffffLL);
-  }
+  static std::int64_t key(std::int64_t x, std::int64_t z) { return (x << 32) ^ (z & 0xffffffffLL); }
   void add(const glm::dvec2& p) {
     cells[key(static_cast<std::int64_t>(std::floor(p.x / kCell)),
               static_cast<std::int64_t>(std::floor(p.y / kCell)))]
@@ -620,8 +619,8 @@ Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline&
   const TriangleGrid grid(track.scene);
   const double total = line.lengthMetres;
   const int frames = std::max(1, options.frames);
-  double length = options.metresPerFrame > 0 ? options.metresPerFrame * (frames - 1)
-                                             : options.lengthMetres;
+  double length =
+      options.metresPerFrame > 0 ? options.metresPerFrame * (frames - 1) : options.lengthMetres;
   length = std::clamp(length, 1.0, total);
   // Road height along the line: the surface below each sample nearest the
   // previous one's (starting from the highest surface within 3 m of the
@@ -630,8 +629,10 @@ Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline&
   std::vector<double> height(m, std::numeric_limits<double>::quiet_NaN());
   double prev = std::numeric_limits<double>::quiet_NaN();
   std::size_t missing = 0;
-  const std::size_t first = static_cast<std::size_t>(
-      std::lround(std::fmod(std::max(0.0, options.startMetres), total) / (total / m))) % m;
+  const std::size_t first =
+      static_cast<std::size_t>(
+          std::lround(std::fmod(std::max(0.0, options.startMetres), total) / (total / m))) %
+      m;
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t k = (first + j) % m;
     const glm::dvec3 at = reg.toModel(line.points[k], 1e6);
@@ -681,7 +682,8 @@ Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline&
         static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, it - line.arcLength.begin() - 1));
     const std::size_t j = (i + 1) % m;
     const double s1 = j == 0 ? total : line.arcLength[j];
-    const double t = s1 > line.arcLength[i] ? (sArc - line.arcLength[i]) / (s1 - line.arcLength[i]) : 0;
+    const double t =
+        s1 > line.arcLength[i] ? (sArc - line.arcLength[i]) / (s1 - line.arcLength[i]) : 0;
     const glm::dvec2 p = line.points[i] + (line.points[j] - line.points[i]) * t;
     const double h = height[i] + (height[j] - height[i]) * t;
     return reg.toModel(p, h);

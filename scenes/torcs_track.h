@@ -7,12 +7,11 @@
 // of equal length whose radius changes linearly). TORCS then shifts the whole
 // track so that its bounding box starts at 0, so the centreline is registered
 // against the track model's vertices before it is driven (torcsDrivePath).
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
@@ -25,12 +24,12 @@ struct TorcsSegment {
   std::string name;  // the segment's section name in the file
   int line = 0;      // where its section starts (1-based)
   Kind kind = Kind::Straight;
-  double lengthMetres = 0.0;     // straights
-  double radiusMetres = 0.0;     // arcs: the centreline's radius at the start
-  double endRadiusMetres = 0.0;  // arcs: at the end (= radius unless "end radius")
-  double arcRadians = 0.0;       // arcs, > 0 for both directions
-  int profileSteps = 0;          // "profil steps" (0: from the step length)
-  double profileStepMetres = -1; // "profil steps length" (< 0: the track's)
+  double lengthMetres = 0.0;      // straights
+  double radiusMetres = 0.0;      // arcs: the centreline's radius at the start
+  double endRadiusMetres = 0.0;   // arcs: at the end (= radius unless "end radius")
+  double arcRadians = 0.0;        // arcs, > 0 for both directions
+  int profileSteps = 0;           // "profil steps" (0: from the step length)
+  double profileStepMetres = -1;  // "profil steps length" (< 0: the track's)
   // Length along the centreline (an arc: mean radius × arc).
   double centreLength() const;
 };
@@ -75,8 +74,8 @@ struct TorcsCentreline {
   // Both edges at every step boundary TORCS' loader creates (where the
   // track model has vertices), for registration.
   std::vector<glm::dvec2> edgePoints;
-  double closureGapMetres = 0.0;   // |end − start| before closing
-  double closureDegrees = 0.0;     // |end heading − start heading|, wrapped
+  double closureGapMetres = 0.0;  // |end − start| before closing
+  double closureDegrees = 0.0;    // |end heading − start heading|, wrapped
 };
 
 // Integrates the main track. Error (naming the file and the last segment)
@@ -109,7 +108,8 @@ Result<TorcsRegistration> registerTorcsCentreline(const TorcsCentreline& line, c
 // looks at the road lookAheadMetres ahead, a quarter of the eye height above
 // it; 512², fov 60°, near 0.5 m, far 1000 m, a key every stepMetres.
 Result<CameraPath> torcsDrivePath(const Ac3dModel& track, const TorcsCentreline& line,
-                                  const TorcsRegistration& reg, const DrivePathOptions& options = {});
+                                  const TorcsRegistration& reg,
+                                  const DrivePathOptions& options = {});
 
 // The default path of a TORCS track file: from its description when
 // NAME.xml is beside it (errors in it are errors), else roadCentreline's

@@ -19,14 +19,14 @@ Scene roofedLevel() {
   s.name = "level";
   s.materials.push_back(Material{});
   Mesh m;
-  appendBox(m, {-20, -0.5f, -20}, {20, 0, 20});     // floor
-  appendBox(m, {-20, 4, -20}, {20, 4.5f, 20});      // roof over all of it
-  appendBox(m, {-20.5f, 0, -20}, {-20, 4, 20});     // walls
+  appendBox(m, {-20, -0.5f, -20}, {20, 0, 20});  // floor
+  appendBox(m, {-20, 4, -20}, {20, 4.5f, 20});   // roof over all of it
+  appendBox(m, {-20.5f, 0, -20}, {-20, 4, 20});  // walls
   appendBox(m, {20, 0, -20}, {20.5f, 4, 20});
   appendBox(m, {-20, 0, -20.5f}, {20, 4, -20});
   appendBox(m, {-20, 0, 20}, {20, 4, 20.5f});
-  appendBox(m, {-1, 0, -1}, {1, 4, 1});             // a pillar
-  appendBox(m, {-20, 0, 5}, {10, 4, 6});            // a wall across, with a gap at x > 10
+  appendBox(m, {-1, 0, -1}, {1, 4, 1});   // a pillar
+  appendBox(m, {-20, 0, 5}, {10, 4, 6});  // a wall across, with a gap at x > 10
   m.computeBounds();
   s.meshes.push_back(std::move(m));
   s.computeBounds();
@@ -134,10 +134,14 @@ TEST(FloorWalk, HitsBelowOnTheFloorsEdge) {
   Scene s;
   s.materials.push_back(Material{});
   Mesh m;
-  m.vertices = {{{-1.2192f, -4.064f, -34.9504f}}, {{-1.2192f, -4.064f, -39.8272f}},
-                {{-2.6416f, -4.064f, -34.9504f}}, {{-2.6416f, -4.064f, -39.8272f}},
+  m.vertices = {{{-1.2192f, -4.064f, -34.9504f}},
+                {{-1.2192f, -4.064f, -39.8272f}},
+                {{-2.6416f, -4.064f, -34.9504f}},
+                {{-2.6416f, -4.064f, -39.8272f}},
                 // the lower floor beyond the step, further out
-                {{-9.0f, -5.0f, -30.0f}}, {{-9.0f, -5.0f, -45.0f}}, {{-8.0f, -5.0f, -30.0f}}};
+                {{-9.0f, -5.0f, -30.0f}},
+                {{-9.0f, -5.0f, -45.0f}},
+                {{-8.0f, -5.0f, -30.0f}}};
   m.indices = {0, 1, 2, 1, 3, 2, 4, 5, 6};
   m.computeBounds();
   s.meshes.push_back(std::move(m));

@@ -22,9 +22,10 @@ std::string segmentXml(const std::string& name, const std::string& body) {
   return "      <section name=\"" + name + "\">\n" + body + "      </section>\n";
 }
 std::string straight(const std::string& name, double lg, const char* unit = "m") {
-  return segmentXml(name, "        <attstr name=\"type\" val=\"str\"/>\n"
-                          "        <attnum name=\"lg\" unit=\"" +
-                              std::string(unit) + "\" val=\"" + std::to_string(lg) + "\"/>\n");
+  return segmentXml(name,
+                    "        <attstr name=\"type\" val=\"str\"/>\n"
+                    "        <attnum name=\"lg\" unit=\"" +
+                        std::string(unit) + "\" val=\"" + std::to_string(lg) + "\"/>\n");
 }
 std::string arc(const std::string& name, const char* type, double radius, double deg,
                 double endRadius = 0) {
@@ -177,17 +178,21 @@ TEST(TorcsTrackXml, BadDescriptionsNameFileLineAndSegment) {
        "segment 'zig': type expected 'str', 'lft' or 'rgt', got 'zig'"},
       {trackXml(segmentXml("nolen", "<attstr name=\"type\" val=\"str\"/>\n")),
        "segment 'nolen': a straight needs 'lg'"},
-      {trackXml(segmentXml("neg", "<attstr name=\"type\" val=\"lft\"/><attnum name=\"radius\" "
-                                  "val=\"-5\"/><attnum name=\"arc\" val=\"1\"/>\n")),
+      {trackXml(segmentXml("neg",
+                           "<attstr name=\"type\" val=\"lft\"/><attnum name=\"radius\" "
+                           "val=\"-5\"/><attnum name=\"arc\" val=\"1\"/>\n")),
        "segment 'neg': an arc needs 'radius'"},
-      {trackXml(segmentXml("noarc", "<attstr name=\"type\" val=\"rgt\"/><attnum name=\"radius\" "
-                                    "val=\"50\"/>\n")),
+      {trackXml(segmentXml("noarc",
+                           "<attstr name=\"type\" val=\"rgt\"/><attnum name=\"radius\" "
+                           "val=\"50\"/>\n")),
        "segment 'noarc': an arc needs 'arc'"},
-      {trackXml(segmentXml("unit", "<attstr name=\"type\" val=\"str\"/><attnum name=\"lg\" "
-                                   "unit=\"furlong\" val=\"3\"/>\n")),
+      {trackXml(segmentXml("unit",
+                           "<attstr name=\"type\" val=\"str\"/><attnum name=\"lg\" "
+                           "unit=\"furlong\" val=\"3\"/>\n")),
        "unknown unit 'furlong'"},
-      {trackXml(segmentXml("nan", "<attstr name=\"type\" val=\"str\"/><attnum name=\"lg\" "
-                                  "val=\"12x\"/>\n")),
+      {trackXml(segmentXml("nan",
+                           "<attstr name=\"type\" val=\"str\"/><attnum name=\"lg\" "
+                           "val=\"12x\"/>\n")),
        "'lg' expected a number, got '12x'"},
       {"<params><section name=\"Main Track\"></params>", "where '</section>' was expected"},
       {"<params><section name=\"Main Track\">", "still open"},
