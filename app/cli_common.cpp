@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/gl/context.h"
 #include "core/timer.h"
+#include "scenes/catalogue.h"
 #include "scenes/loader.h"
 
 namespace hw::app {
@@ -236,11 +237,15 @@ void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& wh
 }
 
 void addCommon(CLI::App* c, Common& o) {
-  c->add_option("--scene", o.scene,
-                "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
-                "indoor:1M; default 100k), or a model file read by Assimp (OBJ, glTF, PLY, "
-                "COLLADA, AC3D, .blend, ...)")
-      ->capture_default_str();
+  c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
+  c->add_option("--speed", o.pathOptions.metresPerFrame,
+                "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
+                "over 240 frames)")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--eye-height", o.pathOptions.eyeHeight,
+                "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
+                "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--path", o.path,
                 "Camera path JSON (docs/camera-path.md: width, height, fov_y_deg, near, far, up, "
                 "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
@@ -289,7 +294,9 @@ Result<Loaded> loadInputs(const Common& o) {
   std::fprintf(stderr, "scene %s: %zu triangles, %zu meshes, loaded in %.0f ms\n",
                l.scene.name.c_str(), l.scene.triangleCount(), l.scene.meshes.size(), sw.ms());
   if (o.path.empty()) {
-    auto p = scenes::defaultPathFor(o.scene);
+    std::vector<std::string> notes;
+    auto p = scenes::defaultPathFor(o.scene, o.pathOptions, &notes);
+    for (const auto& n : notes) std::fprintf(stderr, "hybridwalk: note: %s\n", n.c_str());
     if (!p) return p.error();
     l.path = std::move(*p);
   }

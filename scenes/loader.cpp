@@ -26,6 +26,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/floor_walk.h"
 #include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
@@ -273,7 +274,8 @@ struct BuiltinSpec {
 
 const char* const kBuiltinHelp =
     "built-in scenes: indoor, outdoor, indoor:N, outdoor:N (N = target triangles, e.g. 100k, 1M; "
-    "default 100k); q3:MAPNAME for an OpenArena map (see `hybridwalk scenes fetch`)";
+    "default 100k); q3:MAP, torcs:TRACK, morse:ENV/FILE after `hybridwalk scenes fetch "
+    "[--outdoor]`; `hybridwalk scenes list` names them all";
 
 // nullopt: not a built-in name; error: a built-in name with a bad count.
 Result<std::optional<BuiltinSpec>> parseBuiltin(const std::string& spec) {
@@ -558,8 +560,13 @@ Result<Scene> loadScene(const std::string& spec) {
 }
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
+  return defaultPathFor(spec, DefaultPathOptions{}, nullptr);
+}
+
+Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOptions& options,
+                                  std::vector<std::string>* notes) {
   std::error_code ec;
-  if (auto outdoor = outdoorDefaultPath(spec)) return std::move(*outdoor);
+  if (auto outdoor = outdoorDefaultPath(spec, options, notes)) return std::move(*outdoor);
   if (auto q3 = q3MapName(spec); q3 && !fs::exists(spec, ec)) {
     auto map = loadQ3Spec(*q3);
     if (!map) return map.error();
@@ -574,6 +581,11 @@ Result<CameraPath> defaultPathFor(const std::string& spec) {
   }
   auto scene = loadSceneFile(spec);
   if (!scene) return scene.error();
+  FloorWalkOptions walk;
+  walk.eyeHeight = options.eyeHeight;
+  auto floor = floorWalkPath(*scene, walk);
+  if (floor) return floor;
+  if (notes) notes->push_back(floor.error().message + "; the default path orbits the bounds instead");
   return flythroughPathFor(*scene);
 }
 

@@ -9,7 +9,7 @@
 # executions, executions per second, new inputs and coverage per target.
 #
 # Usage: scripts/fuzz.sh [options] [NAME...]
-#   NAME            camera_path, q3bsp, lod (the */NAME_fuzz.cpp targets);
+#   NAME            camera_path, q3bsp, lod, torcs_track (the */NAME_fuzz.cpp targets);
 #                   default: all of them, one after another
 #   --time S        seconds per target (default 600 = 10 minutes)
 #   --work DIR      scratch corpora, crashes and logs (default out/fuzz;

@@ -153,6 +153,31 @@ if [[ $command == *path_nested.json* ]]; then
     >"$tmp/path_nested.json"
 fi
 
+# TORCS tracks (tracks/CATEGORY/NAME/NAME.acc + NAME.xml): a small model
+# (one quad) and track descriptions with one thing wrong each.
+acc_quad='AC3Db\nMATERIAL "m" rgb 0.5 0.5 0.5  amb 0.2 0.2 0.2  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\nname "ground"\nnumvert 4\n0 0 0\n500 0 0\n500 0 -500\n0 0 -500\nnumsurf 1\nSURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n'
+torcs_seg() { printf '<section name="%s"><attstr name="type" val="%s"/>%s</section>\n' "$@"; }
+torcs_xml() {  # NAME SEGMENTS...: tracks/road/NAME/NAME.{acc,xml}
+  local n=$1; shift
+  mkdir -p "$tmp/tracks/road/$n"
+  printf "$acc_quad" >"$tmp/tracks/road/$n/$n.acc"
+  { printf '<?xml version="1.0"?>\n<params name="%s" type="trackdef">\n<section name="Main Track">\n<attnum name="width" unit="m" val="10"/>\n<section name="Track Segments">\n' "$n"
+    printf '%s' "$@"
+    printf '</section>\n</section>\n</params>\n'; } >"$tmp/tracks/road/$n/$n.xml"
+}
+str200=$(torcs_seg front str '<attnum name="lg" unit="m" val="200"/>')
+turn=$(torcs_seg turn lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')
+torcs_xml oval "$str200" "$turn" "$(torcs_seg back str '<attnum name="lg" unit="m" val="200"/>')" \
+  "$(torcs_seg 'last turn' lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')"
+torcs_xml open "$str200" "$turn" "$(torcs_seg back str '<attnum name="lg" unit="m" val="150"/>')" \
+  "$(torcs_seg 'last turn' lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')"
+torcs_xml zig "$str200" "$(torcs_seg wiggle zig '')"
+torcs_xml nolen "$(torcs_seg front str '')"
+torcs_xml badnum "$(torcs_seg front str '<attnum name="lg" unit="m" val="2OO"/>')"
+torcs_xml cut "$str200"
+head -c 120 "$tmp/tracks/road/cut/cut.xml" >"$tmp/cut.xml" && mv "$tmp/cut.xml" "$tmp/tracks/road/cut/cut.xml"
+mkdir -p "$tmp/tracks/road/nodesc" && printf "$acc_quad" >"$tmp/tracks/road/nodesc/nodesc.acc"
+
 touch "$tmp/a_file"
 
 case $setup in
