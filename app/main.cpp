@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/option_checks.h"
 #include "app/viewer.h"
 #include "bench/bake.h"
 #include "bench/bench_suite.h"
@@ -28,6 +29,7 @@
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
@@ -307,6 +309,9 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  c->add_flag_callback("--allow-external-refs", [] { scenes::setExternalRefsAllowed(true); },
+                       "Let a model file name files outside its own folder tree (glTF buffers "
+                       "and images, OBJ mtllib, textures); refused by default");
 }
 
 struct Loaded {
@@ -477,15 +482,12 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
     if (auto st = bench::runChunks(plan, dist.d); !st) return fail(st.error().message);
     auto results = bench::readChunkResults(plan);
     if (!results) return fail(results.error().message);
-    for (const json& r : *results)
-      for (const json& e : r.at("entries")) {
-        keyframe::KeyframeDbEntry x;
-        x.frame = e.at("frame").get<int>();
-        x.file = e.at("file").get<std::string>();
-        x.bytes = e.at("bytes").get<std::uint64_t>();
-        x.checksum = std::stoull(e.at("checksum").get<std::string>(), nullptr, 16);
-        entries.push_back(x);
-      }
+    for (const json& r : *results) {
+      auto es = keyframe::parseKeyframeEntries(r.contains("entries") ? r["entries"] : json(),
+                                               work + " (chunk result)");
+      if (!es) return fail(es.error().message);
+      entries.insert(entries.end(), es->begin(), es->end());
+    }
   } else {
     auto e = bench::bakeKeyframes(in->scene, in->path, keys, bo);
     if (!e) return fail(e.error().message);
@@ -503,8 +505,7 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
+int runMain(int argc, char** argv) {
   CLI::App app{
       "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
       "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "
@@ -539,7 +540,8 @@ int main(int argc, char** argv) {
   walk->add_option("--tau-px", tauPx,
                    "Physical threshold instead of --tau: parallax error in pixels per scene unit "
                    "of camera motion (same meaning indoors and out); 0 = use --tau")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->excludes("--tau");
   walk->add_option("--criterion", criterion,
                    "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
@@ -839,7 +841,8 @@ int main(int argc, char** argv) {
   bakeCmd->add_option("--out", bakeOut, "Database directory (created)")->required();
   bakeCmd->add_option("--tau", bakeTau, "LOD threshold in z' units, as for walk")->capture_default_str();
   bakeCmd->add_option("--tau-px", bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->excludes("--tau");
   bakeCmd->add_option("--criterion", bakeCriterion, "five-point or per-axis-max, as for walk")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
@@ -1146,6 +1149,10 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitUsage;
   }
+  if (const std::string err = app::checkParsedOptions(app); !err.empty()) {
+    std::fprintf(stderr, "hybridwalk: error: %s\n", err.c_str());
+    return kExitUsage;
+  }
 
   if (render->parsed()) return runRender(renderC, renderOut);
 
@@ -1248,9 +1255,11 @@ int main(int argc, char** argv) {
   }
 
   if (cmpCmd->parsed()) {
-    auto ia = readPng(cmpA);
+    if (!cmpDiff.empty())
+      if (auto st = checkOutputPath(cmpDiff, "--diff"); !st) return fail(st.error().message);
+    auto ia = readPng(cmpA, metricImageLimits());
     if (!ia) return fail(ia.error().message);
-    auto ib = readPng(cmpB);
+    auto ib = readPng(cmpB, metricImageLimits());
     if (!ib) return fail(ib.error().message);
     if (ia->width() != ib->width() || ia->height() != ib->height())
       return fail("compare: " + cmpA + " is " + std::to_string(ia->width()) + "x" +
@@ -1615,6 +1624,9 @@ int main(int argc, char** argv) {
                                                          frames, wo.lod, wo.depthMode));
         !st)
       return fail(st.error().message);
+    if (auto st = db->checkSchedule(bench::bakeKeyframeList(in->path, frames)); !st)
+      return fail(st.error().message);
+    db->setExpectation({[p = in->path](int f) { return p.cameraAt(f); }, wo.depthMode});
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
@@ -1916,4 +1928,28 @@ int main(int argc, char** argv) {
         num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());
   std::printf("report: %s/report.json\n", walkOut.c_str());
   return 0;
+}
+
+// Every subcommand runs inside one guard: an exception that escapes (out of
+// memory above all) becomes one line and exit 1, with temporaries removed,
+// instead of std::terminate's abort.
+int main(int argc, char** argv) {
+  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
+  hw::dieWithParentIfWorker();   // a --workers chunk stops when its parent does
+  hw::installSignalCleanup();    // SIGINT/SIGTERM: temporaries removed, exit 130/143
+  try {
+    return runMain(argc, argv);
+  } catch (const std::bad_alloc&) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr,
+                 "hybridwalk: error: out of memory (an input asked for more than this machine "
+                 "has; see docs/bad-input.md for the limits)\n");
+  } catch (const std::exception& e) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr, "hybridwalk: error: internal error: %s\n", e.what());
+  } catch (...) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr, "hybridwalk: error: internal error: unknown exception\n");
+  }
+  return kExitRuntime;
 }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/file_io.h"
+#include "core/safe_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
 #include "core/memory.h"
@@ -257,8 +258,12 @@ Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneL
       if (!path.empty()) std::remove(path.c_str());
     }
   } scratchGuard{framesFile, framesScratch};
+  std::unique_ptr<TemporaryFile> scratchRegistration;  // removes a named scratch on SIGINT/SIGTERM
   if (writing && !opt.keepFrames) {
-    framesFile = std::fopen(framesScratch.c_str(), "w+b");
+    // Unnamed (O_TMPFILE) where the file system allows: nothing is left even after SIGKILL.
+    std::string named;
+    framesFile = openScratchFile(opt.outDir, framesScratch.substr(opt.outDir.size() + 1), &named);
+    if (!named.empty()) scratchRegistration = std::make_unique<TemporaryFile>(named);
     if (!framesFile) return makeError("cannot write " + framesScratch + ": " + std::strerror(errno));
   }
   bool firstFrameWritten = false;

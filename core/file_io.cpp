@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/safe_io.h"
+
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_FAILURE_USERMSG
@@ -20,7 +22,10 @@
 namespace hw {
 
 Status writeFileAtomic(const std::string& path, std::string_view bytes) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  if (path.empty()) return makeError("cannot write an output to an empty path");
+  HW_TRY(checkOutputPath(path));
+  TemporaryFile tmpFile(path + ".tmp-" + std::to_string(::getpid()));
+  const std::string& tmp = tmpFile.path();
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) return makeError("cannot write " + path + ": " + std::strerror(errno));
   const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
@@ -35,18 +40,12 @@ Status writeFileAtomic(const std::string& path, std::string_view bytes) {
     std::remove(tmp.c_str());
     return makeError("cannot rename " + tmp + " to " + path + ": " + std::strerror(e));
   }
+  tmpFile.release();
   return {};
 }
 
-Result<std::string> readFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return makeError(path + ": is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return makeError("cannot open " + path + ": " + std::strerror(errno));
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) return makeError("cannot read " + path);
-  return s.str();
+Result<std::string> readFile(const std::string& path, std::uint64_t maxBytes) {
+  return readRegularFile(path, maxBytes);
 }
 
 static void appendBytes(void* ctx, void* data, int size) {
@@ -74,10 +73,23 @@ Status writePngGray(const std::string& path, const Image<float>& image, float lo
   return writePng(path, out);
 }
 
-Result<Image<Rgba8>> readPng(const std::string& path) {
-  auto bytes = readFile(path);
+Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits) {
+  auto bytes = readFile(path, limits.maxFileBytes);
   if (!bytes) return bytes.error();
   int w = 0, h = 0, comp = 0;
+  if (bytes->size() > static_cast<std::size_t>(INT32_MAX))
+    return makeError("cannot decode image " + path + ": larger than 2 GiB");
+  // Header first: the decoded size is checked before anything is allocated.
+  if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
+                             static_cast<int>(bytes->size()), &w, &h, &comp))
+    return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
+  if (w < limits.minSide || h < limits.minSide || w > limits.maxSide || h > limits.maxSide ||
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > limits.maxPixels)
+    return makeError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
+                     ", expected sides in [" + std::to_string(limits.minSide) + ", " +
+                     std::to_string(limits.maxSide) + "] and at most " +
+                     std::to_string(limits.maxPixels / 1000000) + " megapixels" +
+                     (w < limits.minSide || h < limits.minSide ? limits.minSideReason : ""));
   stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
                                       static_cast<int>(bytes->size()), &w, &h, &comp, 4);
   if (!px) return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
@@ -88,6 +100,8 @@ Result<Image<Rgba8>> readPng(const std::string& path) {
 }
 
 Status ensureWritableDir(const std::string& dir) {
+  if (dir.empty()) return makeError("output directory: expected a path, got an empty string");
+  HW_TRY(checkOutputPath(dir, "output directory"));
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return makeError("cannot create output directory " + dir + ": " + ec.message());
