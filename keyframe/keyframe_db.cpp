@@ -435,18 +435,20 @@ Result<std::vector<KeyframeDbEntry>> parseKeyframeEntries(const json& entries,
     const std::string where = source + ": keyframes[" + std::to_string(i) + "]";
     if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number_integer() ||
         !k.contains("file") || !k["file"].is_string() || !k.contains("bytes") ||
-        !k["bytes"].is_number_unsigned() || !k.contains("checksum") || !k["checksum"].is_string())
+        !k["bytes"].is_number_integer() ||
+        (!k["bytes"].is_number_unsigned() && k["bytes"].get<std::int64_t>() < 0) ||
+        !k.contains("checksum") || !k["checksum"].is_string())
       return makeError(where +
                        ": expected {frame: int, file: string, bytes: int >= 0, checksum: hex "
                        "string}");
     const json& f = k["frame"];
     const bool frameOk = f.is_number_unsigned()
                              ? f.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT32_MAX)
-                             : false;  // negative
+                             : f.get<std::int64_t>() >= 0 && f.get<std::int64_t>() <= INT32_MAX;
     if (!frameOk)
       return makeError(where + ".frame: expected an integer in [0, 2147483647], got " + f.dump());
     KeyframeDbEntry e;
-    e.frame = static_cast<int>(f.get<std::uint64_t>());
+    e.frame = static_cast<int>(f.get<std::int64_t>());
     e.file = k["file"].get<std::string>();
     e.bytes = k["bytes"].get<std::uint64_t>();
     const std::string cs = k["checksum"].get<std::string>();
