@@ -312,6 +312,11 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_flag_callback("--allow-external-refs", [] { scenes::setExternalRefsAllowed(true); },
                        "Let a model file name files outside its own folder tree (glTF buffers "
                        "and images, OBJ mtllib, textures); refused by default");
+  c->add_option_function<int>(
+       "--max-texture-size", [](const int& px) { setMaxTextureSize(px); },
+       "Scene textures with a side above this are downscaled (with a warning); images over "
+       "max(8192, this)^2 pixels are not decoded (default 8192)")
+      ->check(CLI::Range(16, 65536));
 }
 
 struct Loaded {

@@ -99,6 +99,65 @@ Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits)
   return img;
 }
 
+namespace {
+int gMaxTextureSize = 8192;
+}  // namespace
+
+void setMaxTextureSize(int px) { gMaxTextureSize = std::max(1, px); }
+int maxTextureSize() { return gMaxTextureSize; }
+
+Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const std::string& what,
+                                   std::string* warning) {
+  if (size == 0 || size > static_cast<std::size_t>(INT32_MAX))
+    return makeError("cannot decode image " + what + ": empty or larger than 2 GiB");
+  const auto* b = static_cast<const stbi_uc*>(bytes);
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp))
+    return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  const std::uint64_t budgetSide = static_cast<std::uint64_t>(std::max(8192, gMaxTextureSize));
+  const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  if (w < 1 || h < 1 || pixels > budgetSide * budgetSide)
+    return makeError(what + ": texture is " + std::to_string(w) + "x" + std::to_string(h) + " (" +
+                     formatBytes(pixels * 4) + " decoded), over the decode budget of " +
+                     std::to_string(budgetSide) + "x" + std::to_string(budgetSide) +
+                     " pixels (--max-texture-size raises it); not decoded");
+  stbi_uc* px = stbi_load_from_memory(b, static_cast<int>(size), &w, &h, &comp, 4);
+  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  const int f = std::max(1, (std::max(w, h) + gMaxTextureSize - 1) / gMaxTextureSize);
+  const int ow = std::max(1, w / f), oh = std::max(1, h / f);
+  Image<Rgba8> img(ow, oh);
+  if (f == 1) {
+    std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  } else {
+    // Box filter over f×f source pixels (the last partial row/column dropped).
+    for (int y = 0; y < oh; ++y)
+      for (int x = 0; x < ow; ++x) {
+        unsigned sum[4] = {0, 0, 0, 0};
+        int n = 0;
+        for (int dy = 0; dy < f && y * f + dy < h; ++dy)
+          for (int dx = 0; dx < f && x * f + dx < w; ++dx) {
+            const stbi_uc* p = px + (static_cast<std::size_t>(y * f + dy) * w + (x * f + dx)) * 4;
+            for (int c = 0; c < 4; ++c) sum[c] += p[c];
+            ++n;
+          }
+        img.at(x, y) = Rgba8{static_cast<std::uint8_t>(sum[0] / n), static_cast<std::uint8_t>(sum[1] / n),
+                             static_cast<std::uint8_t>(sum[2] / n), static_cast<std::uint8_t>(sum[3] / n)};
+      }
+    if (warning)
+      *warning = what + ": texture " + std::to_string(w) + "x" + std::to_string(h) +
+                 " downscaled to " + std::to_string(ow) + "x" + std::to_string(oh) +
+                 " (--max-texture-size " + std::to_string(gMaxTextureSize) + ")";
+  }
+  stbi_image_free(px);
+  return img;
+}
+
+Result<Image<Rgba8>> readTexture(const std::string& path, std::string* warning) {
+  auto bytes = readFile(path, 1ull << 30);
+  if (!bytes) return bytes.error();
+  return decodeTexture(bytes->data(), bytes->size(), path, warning);
+}
+
 Status ensureWritableDir(const std::string& dir) {
   if (dir.empty()) return makeError("output directory: expected a path, got an empty string");
   HW_TRY(checkOutputPath(dir, "output directory"));

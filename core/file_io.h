@@ -26,6 +26,19 @@ struct ImageLimits {
   std::string minSideReason;                      // appended when a side is too small
 };
 
+// Textures of scenes (not images the metrics compare). Sides above
+// maxTextureSize() (--max-texture-size, default 8192) are box-downscaled by an
+// integer factor, with *warning set; images of more than
+// max(8192, maxTextureSize())² pixels are not decoded at all (error), so a
+// small compressed file cannot ask for gigabytes. The header is read before
+// anything is allocated; the decoded pixels are held once.
+void setMaxTextureSize(int px);
+int maxTextureSize();
+Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const std::string& what,
+                                   std::string* warning);
+// readFile + decodeTexture.
+Result<Image<Rgba8>> readTexture(const std::string& path, std::string* warning);
+
 Status writePng(const std::string& path, const Image<Rgba8>& image);
 Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits = {});
 // PNG of a single-channel image, values mapped [lo, hi] → [0, 255].

@@ -129,21 +129,14 @@ Status prescanGltf(const std::string& path, const std::string& ext) {
 }
 
 Result<Image<Rgba8>> decodeImage(const unsigned char* bytes, std::size_t size,
-                                 const std::string& what) {
-  if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    return makeError("cannot decode image " + what + ": empty or too large");
-  int w = 0, h = 0, comp = 0;
-  stbi_uc* px = stbi_load_from_memory(bytes, static_cast<int>(size), &w, &h, &comp, 4);
-  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
-  Image<Rgba8> img(w, h);
-  std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  stbi_image_free(px);
-  return img;
+                                 const std::string& what, std::string* warning) {
+  return decodeTexture(bytes, size, what, warning);
 }
 
-Result<Image<Rgba8>> embeddedImage(const aiTexture& t, const std::string& what) {
+Result<Image<Rgba8>> embeddedImage(const aiTexture& t, const std::string& what,
+                                   std::string* warning) {
   if (t.mHeight == 0)  // compressed (PNG/JPG… bytes), mWidth = byte count
-    return decodeImage(reinterpret_cast<const unsigned char*>(t.pcData), t.mWidth, what);
+    return decodeImage(reinterpret_cast<const unsigned char*>(t.pcData), t.mWidth, what, warning);
   Image<Rgba8> img(static_cast<int>(t.mWidth), static_cast<int>(t.mHeight));
   for (std::size_t i = 0; i < img.size(); ++i) {
     const aiTexel& s = t.pcData[i];
@@ -193,6 +186,7 @@ struct TextureCache {
   int get(const std::string& ref) {
     if (auto it = byName.find(ref); it != byName.end()) return it->second;
     Result<Image<Rgba8>> img = makeError("");
+    std::string warning;  // set when the texture was downscaled
     const aiTexture* emb = nullptr;
     if (!ref.empty() && ref[0] == '*') {
       char* end = nullptr;
@@ -203,7 +197,7 @@ struct TextureCache {
       emb = ai->GetEmbeddedTexture(ref.c_str());
     }
     if (emb) {
-      img = embeddedImage(*emb, file + " (embedded texture " + ref + ")");
+      img = embeddedImage(*emb, file + " (embedded texture " + ref + ")", &warning);
     } else if (ref.empty() || ref[0] == '*') {
       img = makeError(file + ": embedded texture " + ref + " does not exist");
     } else if (auto path = resolveTexturePath(folder, ref)) {
@@ -214,12 +208,13 @@ struct TextureCache {
           refused = "texture '" + ref + "', outside the model's folder " + confinedTo.string() +
                     " (refused; pass --allow-external-refs to permit)";
       } else {
-        img = readPng(path->string());  // stb: PNG, JPG, TGA, BMP, …
+        img = readTexture(path->string(), &warning);  // stb: PNG, JPG, TGA, BMP, …
       }
     } else {
       img = makeError(file + ": texture '" + ref + "' not found next to the model (in " +
                       folder.string() + ")");
     }
+    if (!warning.empty()) scene->warnings.push_back(warning);
     Texture t;
     t.name = ref;
     if (img.ok() && !img->empty()) {

@@ -20,6 +20,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/file_io.h"
 #include "scenes/loader.h"  // flythroughPathFor
 
 namespace hw::scenes {
@@ -973,19 +974,15 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       t.error = data.error().message;
       return t;
     }
-    int w = 0, h = 0, comp = 0;
-    stbi_uc* px = data->size() <= static_cast<std::size_t>(std::numeric_limits<int>::max())
-                      ? stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data->data()),
-                                              static_cast<int>(data->size()), &w, &h, &comp, 4)
-                      : nullptr;
-    if (!px) {
-      t.error = t.path + ": cannot decode image: " +
-                (stbi_failure_reason() ? stbi_failure_reason() : "too large");
+    std::string downscaled;
+    auto img = decodeTexture(data->data(), data->size(), t.path, &downscaled);
+    data = makeError("");  // the compressed bytes are not needed any more
+    if (!img) {
+      t.error = img.error().message;
       return t;
     }
-    t.image = Image<Rgba8>(w, h);
-    std::memcpy(t.image.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-    stbi_image_free(px);
+    if (!downscaled.empty()) warnings.push_back(downscaled);
+    t.image = std::move(*img);
     decoded.emplace(t.path, t.image);
     return t;
   };

@@ -171,5 +171,51 @@ TEST(JsonGuard, DuplicateKeysAreNamedByTheirPath) {
   EXPECT_TRUE(contains(deep.error().message, "nested deeper than 64")) << deep.error().message;
 }
 
+// An uncompressed-size bomb: a TGA header declaring W×H pixels and one RLE
+// packet. stb reads the header alone for the size check.
+std::string rleTga(int w, int h) {
+  std::string t(18, '\0');
+  t[2] = 10;  // run-length encoded true-colour
+  t[12] = static_cast<char>(w & 0xFF);
+  t[13] = static_cast<char>(w >> 8);
+  t[14] = static_cast<char>(h & 0xFF);
+  t[15] = static_cast<char>(h >> 8);
+  t[16] = 32;
+  for (int i = 0; i < 64; ++i) t += std::string("\xFF\x10\x20\x30\xFF", 5);  // 128-pixel runs
+  return t;
+}
+
+TEST(DecodeTexture, SizeBombIsRefusedBeforeDecoding) {
+  const std::string tga = rleTga(16384, 16384);
+  std::string warning;
+  auto img = decodeTexture(tga.data(), tga.size(), "bomb.tga", &warning);
+  ASSERT_FALSE(img.ok());
+  EXPECT_TRUE(contains(img.error().message, "16384x16384")) << img.error().message;
+  EXPECT_TRUE(contains(img.error().message, "decode budget")) << img.error().message;
+}
+
+TEST(DecodeTexture, LargeSideIsDownscaledWithAWarning) {
+  setMaxTextureSize(64);
+  const std::string tga = rleTga(256, 32);  // 8192 pixels in 64 runs of 128
+  std::string warning;
+  auto img = decodeTexture(tga.data(), tga.size(), "wide.tga", &warning);
+  setMaxTextureSize(8192);
+  ASSERT_TRUE(img.ok()) << img.error().message;
+  EXPECT_EQ(img->width(), 64);
+  EXPECT_EQ(img->height(), 8);
+  EXPECT_TRUE(contains(warning, "256x32 downscaled to 64x8")) << warning;
+  // The box filter of a constant image is that constant (TGA stores BGRA).
+  for (const Rgba8& p : img->pixels()) {
+    EXPECT_EQ(p.r, 0x30);
+    EXPECT_EQ(p.g, 0x20);
+    EXPECT_EQ(p.b, 0x10);
+  }
+  std::string none;
+  auto small = decodeTexture(tga.data(), tga.size(), "wide.tga", &none);
+  ASSERT_TRUE(small.ok());
+  EXPECT_EQ(small->width(), 256);
+  EXPECT_TRUE(none.empty());
+}
+
 }  // namespace
 }  // namespace hw
