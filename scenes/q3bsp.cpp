@@ -1108,4 +1108,12 @@ Result<std::vector<Q3Spawn>> q3Spawns(const std::string& mapName, const Q3Option
   return parseQ3Spawns(std::string_view(ent->data, ent->count), source, options);
 }
 
+Q3ShaderScriptSummary summarizeQ3ShaderScript(std::string_view text, const std::string& where) {
+  std::unordered_map<std::string, ShaderDef> defs;
+  Q3ShaderScriptSummary out;
+  out.warning = parseShaderScript(text, where, defs);
+  out.shaders = defs.size();
+  return out;
+}
+
 }  // namespace hw::scenes
