@@ -352,6 +352,14 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
         return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
                          "): expected \"origin\" \"x y z\" with 3 finite numbers, got \"" +
                          kv["origin"].substr(0, 60) + "\"");
+      // Finite but huge (1e300) gave a NaN camera path and a CHECK abort;
+      // maps are at most a few 10^4 units across.
+      constexpr double kMaxOriginUnits = 1e7;
+      for (double v : o)
+        if (!(std::abs(v) <= kMaxOriginUnits))
+          return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
+                           "): origin \"" + kv["origin"].substr(0, 60) +
+                           "\": expected coordinates of magnitude at most 1e7 units");
       double yaw = 0.0;
       std::array<double, 1> a{};
       std::array<double, 3> pyr{};
