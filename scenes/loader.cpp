@@ -90,13 +90,51 @@ class ConfinedIOSystem : public Assimp::DefaultIOSystem {
   mutable std::string refused_;
 };
 
+// Every bufferView lies inside its buffer's declared byteLength, computed
+// without wrapping: Assimp adds offset and length in 64 bits, so an offset of
+// 2^64 − 4 passed its check and read before the buffer ("1 triangles", exit 0).
+Status checkGltfJson(std::string_view text, const std::string& path) {
+  HW_TRY(checkJsonNesting(text, path));
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return {};  // not JSON: Assimp's reader says what is wrong
+  if (!j.is_object() || !j.contains("bufferViews")) return {};
+  const nlohmann::json& views = j["bufferViews"];
+  const nlohmann::json* buffers = j.contains("buffers") ? &j["buffers"] : nullptr;
+  if (!views.is_array()) return makeError(path + ": bufferViews: expected an array");
+  auto count = [](const nlohmann::json& v, std::uint64_t* out) {
+    if (!v.is_number_unsigned()) return false;
+    *out = v.get<std::uint64_t>();
+    return true;
+  };
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const nlohmann::json& v = views[i];
+    const std::string where = path + ": bufferViews[" + std::to_string(i) + "]";
+    std::uint64_t buffer = 0, offset = 0, length = 0, bufferLength = 0;
+    if (!v.is_object() || !v.contains("buffer") || !count(v["buffer"], &buffer) ||
+        !v.contains("byteLength") || !count(v["byteLength"], &length) ||
+        (v.contains("byteOffset") && !count(v["byteOffset"], &offset)))
+      return makeError(where +
+                       ": expected {buffer, byteLength, byteOffset} as non-negative integers");
+    if (!buffers || !buffers->is_array() || buffer >= buffers->size() ||
+        !(*buffers)[buffer].is_object() || !(*buffers)[buffer].contains("byteLength") ||
+        !count((*buffers)[buffer]["byteLength"], &bufferLength))
+      return makeError(where + ": buffer " + std::to_string(buffer) +
+                       " does not exist or has no byteLength");
+    if (offset > bufferLength || length > bufferLength - offset)
+      return makeError(where + ": byteOffset " + std::to_string(offset) + " + byteLength " +
+                       std::to_string(length) + " lies outside buffer " + std::to_string(buffer) +
+                       " of " + std::to_string(bufferLength) + " bytes");
+  }
+  return {};
+}
+
 // glTF JSON nests far less than kMaxJsonDepth; Assimp's reader recurses per
 // level, so deeper text would overflow the stack. .glb: the header's lengths
 // must fit in the file before anything is allocated from them.
 Status prescanGltf(const std::string& path, const std::string& ext) {
   auto bytes = readFile(path, 1ull << 30);
   if (!bytes) return bytes.error();
-  if (ext == ".gltf") return checkJsonNesting(*bytes, path);
+  if (ext == ".gltf") return checkGltfJson(*bytes, path);
   const std::string& b = *bytes;
   auto u32 = [&](std::size_t at) {
     std::uint32_t v = 0;
@@ -124,7 +162,7 @@ Status prescanGltf(const std::string& path, const std::string& ext) {
     at += 8 + static_cast<std::size_t>(len);
   }
   if (u32(16) == 0x4E4F534Au)  // "JSON"
-    return checkJsonNesting(std::string_view(b).substr(20, chunk0), path);
+    return checkGltfJson(std::string_view(b).substr(20, chunk0), path);
   return {};
 }
 

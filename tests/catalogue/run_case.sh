@@ -227,6 +227,8 @@ tri = gltf(t + '/model/buf_up.gltf', '../outside.bin')
 open(t + '/outside.bin', 'wb').write(tri)
 gltf(t + '/model/buf_abs.gltf', t + '/outside.bin')
 gltf(t + '/model/buf_fifo.gltf', 'fifo.bin')
+gltf(t + '/wrap.gltf', 'data:application/octet-stream;base64,' + base64.b64encode(tri).decode(),
+     offset=2**64 - 4)
 os.mkfifo(t + '/model/fifo.bin')
 # 100 000 levels of nesting inside an otherwise valid glTF.
 n = 100000
