@@ -1254,6 +1254,7 @@ int runMain(int argc, char** argv) {
               {"scene", "triangles", "path_hash", "resolution"});
           !st)
         return fail(st.error().message);
+      db->setExpectation({[p = played](int f) { return p.cameraAt(f); }, std::nullopt});
       vo.keyframeDb = std::make_shared<keyframe::KeyframeDb>(std::move(*db));
     }
     return app::runViewer(*s, *p, vo);

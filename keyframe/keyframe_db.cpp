@@ -583,9 +583,9 @@ Status checkKeyframeExpectation(const CachedKeyframe& kf, const KeyframeExpectat
   if (c.width != w.width || c.height != w.height)
     return differs("size", std::to_string(c.width) + "x" + std::to_string(c.height),
                    std::to_string(w.width) + "x" + std::to_string(w.height));
-  if (kf.keyframe.depthMode != want.depthMode)
-    return differs("depth mode", std::to_string(static_cast<int>(kf.keyframe.depthMode)),
-                   std::to_string(static_cast<int>(want.depthMode)));
+  if (want.depthMode && kf.keyframe.depthMode != *want.depthMode)
+    return differs("depth mode", depthModeName(kf.keyframe.depthMode),
+                   depthModeName(*want.depthMode));
   if (!nearVec(c.eye, w.eye)) return differs("eye", fmtVec(c.eye), fmtVec(w.eye));
   if (!nearVec(c.forward, w.forward) || !nearVec(c.up, w.up) || !nearVec(c.right, w.right))
     return differs("view direction", fmtVec(c.forward), fmtVec(w.forward));

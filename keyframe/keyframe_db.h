@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -76,7 +77,7 @@ std::string keyframeDbIndexJson(const KeyframeDbProvenance& p,
 // checksum; this catches it when the keyframe is read.
 struct KeyframeExpectation {
   std::function<Camera(int frame)> cameraAt;
-  DepthMode depthMode = DepthMode::Fixed24;
+  std::optional<DepthMode> depthMode;  // unset: any (the viewer takes the database's)
 };
 // Error naming the first camera field, size or depth mode that differs.
 Status checkKeyframeExpectation(const CachedKeyframe& kf, const KeyframeExpectation& want,
