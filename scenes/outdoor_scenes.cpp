@@ -417,6 +417,11 @@ class AcParser {
           long long flags = 0;
           if (keyword(line) != "SURF" || !integer(rest(line), &flags))
             return fail("expected 'SURF FLAGS'", line);
+          // Material 0 unless a 'mat' line follows: there must be one.
+          if (acMaterials_.empty())
+            return fail("expected a MATERIAL line before the first SURF (a surface uses "
+                        "material 0 unless it says 'mat N')",
+                        line);
           Pending p{static_cast<int>(flags), 0, {}};
           bool gotRefs = false;
           while (!gotRefs) {

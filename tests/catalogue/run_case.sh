@@ -187,6 +187,8 @@ printf 'mtllib %s/outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "$tmp" >"$t
 printf 'newmtl m\nKd 1 0 0\n' >"$tmp/outside.mtl"
 printf 'AC3Db\nMATERIAL "m" rgb 1 1 1  amb 0 0 0  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\nnumvert 50000000\n0 0 0\n' \
   >"$tmp/huge_numvert.acc"
+printf 'AC3Db\nOBJECT world\nkids 1\nOBJECT poly\nnumvert 3\n0 0 0\n1 0 0\n0 1 0\nnumsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n' \
+  >"$tmp/no_material.acc"
 printf 'mtllib tex_abs.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_abs.obj"
 printf 'newmtl m\nKd 1 1 1\nmap_Kd %s/outside.png\n' "$tmp" >"$tmp/model/tex_abs.mtl"
 printf 'mtllib tex_up.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_up.obj"
