@@ -9,6 +9,7 @@
 
 #include "core/check.h"
 #include "core/gl/context.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
 #include "scenes/catalogue.h"
 #include "scenes/loader.h"
@@ -259,6 +260,14 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  c->add_flag_callback("--allow-external-refs", [] { scenes::setExternalRefsAllowed(true); },
+                       "Let a model file name files outside its own folder tree (glTF buffers "
+                       "and images, OBJ mtllib, textures); refused by default");
+  c->add_option_function<int>(
+       "--max-texture-size", [](const int& px) { setMaxTextureSize(px); },
+       "Scene textures with a side above this are downscaled (with a warning); images over "
+       "max(8192, this)^2 pixels are not decoded (default 8192)")
+      ->check(CLI::Range(16, 65536));
   const CLI::Validator size(
       [](std::string& v) -> std::string {
         char* end = nullptr;

@@ -10,6 +10,11 @@
 
 namespace hw::scenes {
 
+// Process-wide default of LoadOptions::allowExternalRefs (the command line's
+// --allow-external-refs). Off unless set.
+void setExternalRefsAllowed(bool allowed);
+bool externalRefsAllowed();
+
 struct LoadOptions {
   // Force a Z-up → Y-up conversion ((x, y, z) → (x, z, −y)). When false, the
   // file's own "UpAxis"/"UpAxisSign" metadata (FBX and others) decides.
@@ -17,6 +22,10 @@ struct LoadOptions {
   // Meshes with more triangles than this are split into spatial chunks so
   // that frustum culling has something to cull; 0 disables splitting.
   std::size_t maxTrianglesPerMesh = 20'000;
+  // Files the model names (glTF buffers and images, OBJ mtllib, textures) must
+  // lie in the model's folder tree unless this is set (--allow-external-refs;
+  // default: externalRefsAllowed()).
+  bool allowExternalRefs = externalRefsAllowed();
 };
 
 // Loads a model into a Y-up Scene: triangulated, node transforms applied

@@ -39,6 +39,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kMaxAcDepth = 256;  // object nesting; deeper files are refused, not recursed into
+// Largest count a declared numvert/refs may reserve before its lines are read.
+constexpr long long kAcReserveLimit = 1 << 16;
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -54,14 +56,8 @@ bool hasCutout(const Image<Rgba8>& img) {
 Result<Image<Rgba8>> decodeStb(const std::string& bytes, const std::string& what) {
   if (bytes.empty() || bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     return makeError("cannot decode image " + what + ": empty or too large");
-  int w = 0, h = 0, comp = 0;
-  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                      static_cast<int>(bytes.size()), &w, &h, &comp, 4);
-  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
-  Image<Rgba8> img(w, h);
-  std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  stbi_image_free(px);
-  return img;
+  std::string downscaled;  // TORCS/MORSE textures are far below the limit; not reported
+  return decodeTexture(bytes.data(), bytes.size(), what, &downscaled);
 }
 
 bool isSgi(const std::string& bytes) {
@@ -397,18 +393,24 @@ class AcParser {
         local.loc = glm::vec3(l[0], l[1], l[2]);
       } else if (kw == "numvert") {
         if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numvert N'", line);
-        positions.resize(static_cast<std::size_t>(n));
-        normals.resize(static_cast<std::size_t>(n));
-        for (std::size_t i = 0; i < positions.size(); ++i) {
+        // Grown as lines arrive: a declared count allocates nothing by
+        // itself (an 84-byte file declaring 50M vertices took 1.2 GB).
+        positions.clear();
+        normals.clear();
+        positions.reserve(static_cast<std::size_t>(std::min<long long>(n, kAcReserveLimit)));
+        normals.reserve(positions.capacity());
+        for (long long i = 0; i < n; ++i) {
           if (!next(&line)) return eof(std::to_string(n) + " vertex lines after numvert");
           double v[6];
           const int k = numbers(line, v, 6);
           if (k < 3) return fail("expected a vertex 'X Y Z [NX NY NZ]'", line);
-          positions[i] = glm::vec3(v[0], v[1], v[2]);
+          positions.push_back(glm::vec3(v[0], v[1], v[2]));
           if (k == 6)
-            normals[i] = glm::vec3(v[3], v[4], v[5]);
-          else
+            normals.push_back(glm::vec3(v[3], v[4], v[5]));
+          else {
+            normals.push_back(glm::vec3(0.0f));
             haveNormals = false;
+          }
         }
       } else if (kw == "numsurf") {
         if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numsurf N'", line);
@@ -417,6 +419,11 @@ class AcParser {
           long long flags = 0;
           if (keyword(line) != "SURF" || !integer(rest(line), &flags))
             return fail("expected 'SURF FLAGS'", line);
+          // Material 0 unless a 'mat' line follows: there must be one.
+          if (acMaterials_.empty())
+            return fail("expected a MATERIAL line before the first SURF (a surface uses "
+                        "material 0 unless it says 'mat N')",
+                        line);
           Pending p{static_cast<int>(flags), 0, {}};
           bool gotRefs = false;
           while (!gotRefs) {
@@ -433,8 +440,10 @@ class AcParser {
             } else if (skw == "refs") {
               if (!integer(rest(line), &v) || v < 0 || v > 10'000'000)
                 return fail("expected 'refs N'", line);
-              p.refs.resize(static_cast<std::size_t>(v));
-              for (auto& r : p.refs) {
+              p.refs.clear();
+              p.refs.reserve(static_cast<std::size_t>(std::min<long long>(v, kAcReserveLimit)));
+              for (long long ri = 0; ri < v; ++ri) {
+                auto& r = p.refs.emplace_back();
                 if (!next(&line)) return eof("a 'INDEX U V' line of refs");
                 double q[3] = {0, 0, 0};
                 if (numbers(line, q, 3) < 1 || q[0] < 0 ||

@@ -21,6 +21,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/file_io.h"
 #include "scenes/loader.h"  // flythroughPathFor
 #include "scenes/outdoor_scenes.h"  // TriangleGrid
 
@@ -353,6 +354,14 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
         return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
                          "): expected \"origin\" \"x y z\" with 3 finite numbers, got \"" +
                          kv["origin"].substr(0, 60) + "\"");
+      // Finite but huge (1e300) gave a NaN camera path and a CHECK abort;
+      // maps are at most a few 10^4 units across.
+      constexpr double kMaxOriginUnits = 1e7;
+      for (double v : o)
+        if (!(std::abs(v) <= kMaxOriginUnits))
+          return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
+                           "): origin \"" + kv["origin"].substr(0, 60) +
+                           "\": expected coordinates of magnitude at most 1e7 units");
       double yaw = 0.0;
       std::array<double, 1> a{};
       std::array<double, 3> pyr{};
@@ -1024,19 +1033,15 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       t.error = data.error().message;
       return t;
     }
-    int w = 0, h = 0, comp = 0;
-    stbi_uc* px = data->size() <= static_cast<std::size_t>(std::numeric_limits<int>::max())
-                      ? stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data->data()),
-                                              static_cast<int>(data->size()), &w, &h, &comp, 4)
-                      : nullptr;
-    if (!px) {
-      t.error = t.path + ": cannot decode image: " +
-                (stbi_failure_reason() ? stbi_failure_reason() : "too large");
+    std::string downscaled;
+    auto img = decodeTexture(data->data(), data->size(), t.path, &downscaled);
+    data = makeError("");  // the compressed bytes are not needed any more
+    if (!img) {
+      t.error = img.error().message;
       return t;
     }
-    t.image = Image<Rgba8>(w, h);
-    std::memcpy(t.image.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-    stbi_image_free(px);
+    if (!downscaled.empty()) warnings.push_back(downscaled);
+    t.image = std::move(*img);
     decoded.emplace(t.path, t.image);
     return t;
   };
@@ -1209,6 +1214,14 @@ Result<std::vector<Q3Spawn>> q3Spawns(const std::string& mapName, const Q3Option
   auto ent = lumpOf(b, source, kLumpEntities, 1);
   if (!ent) return ent.error();
   return parseQ3Spawns(std::string_view(ent->data, ent->count), source, options);
+}
+
+Q3ShaderScriptSummary summarizeQ3ShaderScript(std::string_view text, const std::string& where) {
+  std::unordered_map<std::string, ShaderDef> defs;
+  Q3ShaderScriptSummary out;
+  out.warning = parseShaderScript(text, where, defs);
+  out.shaders = defs.size();
+  return out;
 }
 
 }  // namespace hw::scenes

@@ -126,4 +126,14 @@ Result<std::vector<std::string>> listQ3Maps(const std::vector<std::string>& pk3P
 // The map's spawns only (reads just the BSP's entities lump).
 Result<std::vector<Q3Spawn>> q3Spawns(const std::string& mapName, const Q3Options& options);
 
+// One scripts/*.shader text as the map loader reads it: how many shaders it
+// defines, and a warning naming `where` and the line for a malformed file
+// (its remaining shaders are ignored), empty when well-formed. For tests and
+// the fuzz target; never fails otherwise.
+struct Q3ShaderScriptSummary {
+  std::size_t shaders = 0;
+  std::string warning;
+};
+Q3ShaderScriptSummary summarizeQ3ShaderScript(std::string_view text, const std::string& where);
+
 }  // namespace hw::scenes

@@ -606,6 +606,9 @@ TEST_F(Q3BspTest, BadHeaderLumpsAndFaces) {
     TestBsp b;
     b.entities = "{ \"classname\" \"info_player_start\" \"origin\" \"1 2\" }";
     expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "entities", "origin"});
+    // Finite but far past any map: a NaN camera path (and a CHECK) before.
+    b.entities = "{ \"classname\" \"info_player_start\" \"origin\" \"1e300 0 0\" }";
+    expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "origin", "1e7"});
     b.entities = "{ \"classname\" \"worldspawn\" ";
     expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "entities", "not closed"});
     b.entities = "{ \"classname\" \"worldspawn }";
