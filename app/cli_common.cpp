@@ -9,7 +9,9 @@
 
 #include "core/check.h"
 #include "core/gl/context.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
+#include "scenes/catalogue.h"
 #include "scenes/loader.h"
 
 namespace hw::app {
@@ -236,11 +238,15 @@ void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& wh
 }
 
 void addCommon(CLI::App* c, Common& o) {
-  c->add_option("--scene", o.scene,
-                "Scene: 'indoor' or 'outdoor' (built-in; append ':N' for ~N triangles, e.g. "
-                "indoor:1M; default 100k), or a model file read by Assimp (OBJ, glTF, PLY, "
-                "COLLADA, AC3D, .blend, ...)")
-      ->capture_default_str();
+  c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
+  c->add_option("--speed", o.pathOptions.metresPerFrame,
+                "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
+                "over 240 frames)")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--eye-height", o.pathOptions.eyeHeight,
+                "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
+                "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--path", o.path,
                 "Camera path JSON (docs/camera-path.md: width, height, fov_y_deg, near, far, up, "
                 "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
@@ -254,6 +260,14 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  c->add_flag_callback("--allow-external-refs", [] { scenes::setExternalRefsAllowed(true); },
+                       "Let a model file name files outside its own folder tree (glTF buffers "
+                       "and images, OBJ mtllib, textures); refused by default");
+  c->add_option_function<int>(
+       "--max-texture-size", [](const int& px) { setMaxTextureSize(px); },
+       "Scene textures with a side above this are downscaled (with a warning); images over "
+       "max(8192, this)^2 pixels are not decoded (default 8192)")
+      ->check(CLI::Range(16, 65536));
   const CLI::Validator size(
       [](std::string& v) -> std::string {
         char* end = nullptr;
@@ -289,7 +303,9 @@ Result<Loaded> loadInputs(const Common& o) {
   std::fprintf(stderr, "scene %s: %zu triangles, %zu meshes, loaded in %.0f ms\n",
                l.scene.name.c_str(), l.scene.triangleCount(), l.scene.meshes.size(), sw.ms());
   if (o.path.empty()) {
-    auto p = scenes::defaultPathFor(o.scene);
+    std::vector<std::string> notes;
+    auto p = scenes::defaultPathFor(o.scene, o.pathOptions, &notes);
+    for (const auto& n : notes) std::fprintf(stderr, "hybridwalk: note: %s\n", n.c_str());
     if (!p) return p.error();
     l.path = std::move(*p);
   }

@@ -15,6 +15,7 @@
 #include "keyframe/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
+#include "scenes/loader.h"
 #include "scenes/scene.h"
 
 namespace hw::app {
@@ -48,6 +49,7 @@ struct Common {
   std::string depth = depthModeName(kDefaultDepthMode);
   int frames = 0;  // stop after this many frames (0 = all)
   int width = 0, height = 0;  // frame size, pixels (0 = the path's)
+  scenes::DefaultPathOptions pathOptions;  // --speed, --eye-height
 };
 
 // --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window

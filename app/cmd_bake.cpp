@@ -99,15 +99,12 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
     if (auto st = bench::runChunks(plan, dist.d); !st) return fail(st.error().message);
     auto results = bench::readChunkResults(plan);
     if (!results) return fail(results.error().message);
-    for (const json& r : *results)
-      for (const json& e : r.at("entries")) {
-        keyframe::KeyframeDbEntry x;
-        x.frame = e.at("frame").get<int>();
-        x.file = e.at("file").get<std::string>();
-        x.bytes = e.at("bytes").get<std::uint64_t>();
-        x.checksum = std::stoull(e.at("checksum").get<std::string>(), nullptr, 16);
-        entries.push_back(x);
-      }
+    for (const json& r : *results) {
+      auto es = keyframe::parseKeyframeEntries(r.contains("entries") ? r["entries"] : json(),
+                                               work + " (chunk result)");
+      if (!es) return fail(es.error().message);
+      entries.insert(entries.end(), es->begin(), es->end());
+    }
   } else {
     auto e = session::bakeKeyframes(in->scene, in->path, keys, bo);
     if (!e) return fail(e.error().message);
@@ -164,7 +161,8 @@ void addBakeCommand(CLI::App& app, Commands& commands) {
   bakeCmd->add_option("--out", o.bakeOut, "Database directory (created)")->required();
   bakeCmd->add_option("--tau", o.bakeTau, "LOD threshold in z' units, as for walk")->capture_default_str();
   bakeCmd->add_option("--tau-px", o.bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->excludes("--tau");
   bakeCmd->add_option("--criterion", o.bakeCriterion, "five-point or per-axis-max, as for walk")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();

@@ -25,6 +25,7 @@
 #include "report/schedule_plots.h"
 #include "report/walk_plots.h"
 #include "core/file_io.h"
+#include "core/safe_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
 #include "core/memory.h"
@@ -54,9 +55,11 @@ struct CompareCli {
 };
 
 int run(CompareCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
-    auto ia = readPng(o.cmpA);
+    if (!o.cmpDiff.empty())
+    if (auto st = checkOutputPath(o.cmpDiff, "--diff"); !st) return fail(st.error().message);
+  auto ia = readPng(o.cmpA, metricImageLimits());
     if (!ia) return fail(ia.error().message);
-    auto ib = readPng(o.cmpB);
+    auto ib = readPng(o.cmpB, metricImageLimits());
     if (!ib) return fail(ib.error().message);
     if (ia->width() != ib->width() || ia->height() != ib->height())
       return fail("compare: " + o.cmpA + " is " + std::to_string(ia->width()) + "x" +

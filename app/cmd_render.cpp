@@ -36,6 +36,8 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
+#include "scenes/catalogue.h"
+#include "scenes/outdoor_scenes.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
@@ -46,7 +48,7 @@ namespace {
 
 using nlohmann::json;
 
-int runRender(const Common& o, const std::string& outDir) {
+int runRender(const Common& o, const std::string& outDir, bool quiet) {
   auto in = loadInputs(o);
   if (!in) return fail(in.error().message);
   if (auto st = ensureWritableDir(outDir); !st) return fail(st.error().message);
@@ -55,6 +57,23 @@ int runRender(const Common& o, const std::string& outDir) {
   auto r = keyframe::GeometryRenderer::create(in->scene, ropt);
   if (!r) return fail(r.error().message);
   const int frames = o.frames > 0 ? std::min(o.frames, in->path.frames) : in->path.frames;
+  json first;  // where the first frame's eye stands, and how much of it is sky or void
+  {
+    keyframe::Keyframe kf;
+    const Camera c0 = in->path.cameraAt(0);
+    if (auto s = (*r)->renderKeyframe(c0, kf); !s) return fail(s.error().message);
+    std::size_t empty = 0;
+    for (std::uint8_t c : kf.covered.pixels()) empty += c == 0;
+    const scenes::TriangleGrid grid(in->scene);
+    const auto eye = scenes::checkEye(grid, c0.eye);
+    const double pixels = static_cast<double>(kf.covered.pixels().size());
+    first = {{"empty_fraction", static_cast<double>(empty) / pixels},
+             {"sky_or_void_fraction",
+              scenes::openViewFraction(grid, c0.eye, c0.forward, in->path.fovYDeg,
+                                       in->path.farPlane, 64)},
+             {"floor_drop", eye.floorDrop ? json(*eye.floorDrop) : json(nullptr)},
+             {"clearance", eye.clearance}};
+  }
   Image<Rgba8> img;
   json fr = json::array();
   std::vector<double> ms;
@@ -69,7 +88,7 @@ int runRender(const Common& o, const std::string& outDir) {
                   {"readback_ms", st.readbackMs}, {"meshes_drawn", st.meshesDrawn},
                   {"triangles_drawn", st.trianglesDrawn}});
     ms.push_back(st.drawMs + st.readbackMs);
-    if (progress.ms() > 1000 || i + 1 == frames) {
+    if (!quiet && (progress.ms() > 1000 || i + 1 == frames)) {
       progress.restart();
       std::fprintf(stderr, "\rrender: frame %d/%d, ETA %.0f s   %s", i + 1, frames,
                    all.ms() / 1000.0 / (i + 1) * (frames - i - 1), i + 1 == frames ? "\n" : "");
@@ -80,6 +99,7 @@ int runRender(const Common& o, const std::string& outDir) {
                   {{"scene", {{"name", in->scene.name}, {"triangles", in->scene.triangleCount()}}},
                    {"resolution", {in->path.width, in->path.height}},
                    {"depth_mode", o.depth},
+                   {"first_frame", first},
                    {"ms", {{"median", median(ms)}, {"p95", percentile(ms, 95)}}},
                    {"machine", machineInfo(in->context->renderer(), in->context->version())}}}};
   if (auto s = writeFileAtomic(outDir + "/render.json", report.dump(1)); !s) return fail(s.error().message);
@@ -93,11 +113,12 @@ int runRender(const Common& o, const std::string& outDir) {
 struct RenderCli {
   CLI::App* render = nullptr;
   Common renderC;
+  bool renderQuiet = false;
   std::string renderOut = "out/render";
 };
 
 int run(RenderCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
-  return runRender(o.renderC, o.renderOut);
+  return runRender(o.renderC, o.renderOut, o.renderQuiet);
 }
 
 }  // namespace
@@ -111,6 +132,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                 "with per-frame times and the scene's triangle count");
   addCommon(render, o.renderC);
   render->add_option("--out", o.renderOut, "Output directory")->capture_default_str();
+  render->add_flag("--quiet", o.renderQuiet, "No progress line");
 
   commands.push_back({render, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }

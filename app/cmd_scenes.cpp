@@ -36,6 +36,7 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
+#include "scenes/catalogue.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
@@ -66,17 +67,10 @@ int runFetchCmd(ScenesCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char**
 }
 
 int runListCmd(ScenesCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
-    std::printf("built-in: indoor, outdoor (append :N for ~N triangles, e.g. indoor:1M)\n");
-    const auto pk3s = scenes::defaultPk3Paths(o.cacheDir);
-    if (pk3s.empty()) {
-      std::printf("no pk3 files in %s: run 'hybridwalk scenes fetch' for the OpenArena maps\n",
-                  o.cacheDir.c_str());
-      return 0;
-    }
-    auto maps = scenes::listQ3Maps(pk3s);
-    if (!maps) return fail(maps.error().message);
-    for (const auto& m : *maps) std::printf("q3:%s\n", m.c_str());
-    return 0;
+  for (const auto& e : scenes::listScenes(o.cacheDir))
+    std::printf("%-9s %-30s %s%s\n", e.kind.c_str(), e.spec.c_str(),
+                e.fetched ? "" : "NOT FETCHED: ", e.note.c_str());
+  return 0;
 }
 
 }  // namespace
@@ -97,7 +91,8 @@ void addScenesCommand(CLI::App& app, Commands& commands) {
   fetchCmd->add_flag("--outdoor", o.fetchOutdoor,
                      "Also the outdoor scenes: torcs-data (TORCS tracks, torcs:NAME, 333 MB) and "
                      "morse-simulator-data (MORSE environments, morse:ENV/FILE, 82 MB)");
-  auto* listCmd = o.listCmd = scenesCmd->add_subcommand("list", "List the built-in scenes and the q3: maps in the cache");
+  auto* listCmd = o.listCmd = scenesCmd->add_subcommand("list", "List every scene by kind (built-in, q3: maps, torcs: tracks, morse: environments), "
+              "marking the kinds not fetched yet");
   listCmd->add_option("--dir", o.cacheDir, "Cache directory")->capture_default_str();
 
   commands.push_back({fetchCmd, [state](int argc, char** argv) { return runFetchCmd(*state, argc, argv); }});

@@ -161,6 +161,9 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
                                                          frames, wo.lod, wo.depthMode));
         !st)
       return fail(st.error().message);
+    if (auto st = db->checkSchedule(session::bakeKeyframeList(in->path, frames)); !st)
+      return fail(st.error().message);
+    db->setExpectation({[p = in->path](int f) { return p.cameraAt(f); }, wo.depthMode});
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
@@ -486,7 +489,8 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
   walk->add_option("--tau-px", o.tauPx,
                    "Physical threshold instead of --tau: parallax error in pixels per scene unit "
                    "of camera motion (same meaning indoors and out); 0 = use --tau")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->excludes("--tau");
   walk->add_option("--criterion", o.criterion,
                    "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))

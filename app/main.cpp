@@ -6,8 +6,10 @@
 #include <string>
 
 #include "app/cli_common.h"
+#include "app/option_checks.h"
 #include "app/commands.h"
 #include "core/memory.h"
+#include "core/safe_io.h"
 
 namespace {
 
@@ -24,11 +26,8 @@ bool knownCommand(const CLI::App& parent, int argc, char** argv, int argi) {
   return false;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int runMain(int argc, char** argv) {
   using namespace hw::app;  // NOLINT
-  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
   CLI::App app{
       "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
       "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "
@@ -65,7 +64,37 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitUsage;
   }
+  if (const std::string err = checkParsedOptions(app); !err.empty()) {
+    std::fprintf(stderr, "hybridwalk: error: %s\n", err.c_str());
+    return kExitUsage;
+  }
   for (const Command& c : commands)
     if (c.cli->parsed()) return c.run(argc, argv);
   return fail("no command was given (see --help)");
+}
+
+}  // namespace
+
+// Every subcommand runs inside one guard: an exception that escapes (out of
+// memory above all) becomes one line and exit 1, with temporaries removed,
+// instead of std::terminate's abort.
+int main(int argc, char** argv) {
+  hw::fixMallocMmapThreshold();  // flat RSS in long walks (core/memory.h)
+  hw::dieWithParentIfWorker();   // a --workers chunk stops when its parent does
+  hw::installSignalCleanup();    // SIGINT/SIGTERM: temporaries removed, exit 130/143
+  try {
+    return runMain(argc, argv);
+  } catch (const std::bad_alloc&) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr,
+                 "hybridwalk: error: out of memory (an input asked for more than this machine "
+                 "has; see docs/bad-input.md for the limits)\n");
+  } catch (const std::exception& e) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr, "hybridwalk: error: internal error: %s\n", e.what());
+  } catch (...) {
+    hw::removeRegisteredTemporaries();
+    std::fprintf(stderr, "hybridwalk: error: internal error: unknown exception\n");
+  }
+  return hw::app::kExitRuntime;
 }

@@ -20,6 +20,8 @@
 #include <thread>
 
 #include "core/file_io.h"
+#include "core/json_guard.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
 
 extern char** environ;
@@ -186,6 +188,7 @@ Status runLocal(const ChunkPlan& plan, const DistributeOptions& o, const std::ve
   std::map<int, int> exitOf;  // chunk → exit status (−signal when killed)
   std::size_t next = 0;
   Stopwatch sw;
+  markChildrenAsWorkers();  // each worker dies with this process (PR_SET_PDEATHSIG)
   auto spawn = [&](int chunk) -> Status {
     std::vector<std::string> args = plan.command;
     args.push_back("--chunk");
@@ -428,11 +431,9 @@ Result<std::vector<json>> readChunkResults(const ChunkPlan& plan) {
     const std::string f = chunkResultFile(plan.workDir, i);
     auto text = readFile(f);
     if (!text) return text.error();
-    try {
-      out.push_back(json::parse(*text));
-    } catch (const json::exception& e) {
-      return makeError(f + ": not valid JSON: " + e.what());
-    }
+    auto parsed = parseJsonStrict(*text, f);
+    if (!parsed) return parsed.error();
+    out.push_back(std::move(*parsed));
   }
   return out;
 }

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/safe_io.h"
+
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_FAILURE_USERMSG
@@ -20,7 +22,10 @@
 namespace hw {
 
 Status writeFileAtomic(const std::string& path, std::string_view bytes) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  if (path.empty()) return makeError("cannot write an output to an empty path");
+  HW_TRY(checkOutputPath(path));
+  TemporaryFile tmpFile(path + ".tmp-" + std::to_string(::getpid()));
+  const std::string& tmp = tmpFile.path();
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) return makeError("cannot write " + path + ": " + std::strerror(errno));
   const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
@@ -35,18 +40,12 @@ Status writeFileAtomic(const std::string& path, std::string_view bytes) {
     std::remove(tmp.c_str());
     return makeError("cannot rename " + tmp + " to " + path + ": " + std::strerror(e));
   }
+  tmpFile.release();
   return {};
 }
 
-Result<std::string> readFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return makeError(path + ": is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return makeError("cannot open " + path + ": " + std::strerror(errno));
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) return makeError("cannot read " + path);
-  return s.str();
+Result<std::string> readFile(const std::string& path, std::uint64_t maxBytes) {
+  return readRegularFile(path, maxBytes);
 }
 
 static void appendBytes(void* ctx, void* data, int size) {
@@ -74,10 +73,23 @@ Status writePngGray(const std::string& path, const Image<float>& image, float lo
   return writePng(path, out);
 }
 
-Result<Image<Rgba8>> readPng(const std::string& path) {
-  auto bytes = readFile(path);
+Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits) {
+  auto bytes = readFile(path, limits.maxFileBytes);
   if (!bytes) return bytes.error();
   int w = 0, h = 0, comp = 0;
+  if (bytes->size() > static_cast<std::size_t>(INT32_MAX))
+    return makeError("cannot decode image " + path + ": larger than 2 GiB");
+  // Header first: the decoded size is checked before anything is allocated.
+  if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
+                             static_cast<int>(bytes->size()), &w, &h, &comp))
+    return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
+  if (w < limits.minSide || h < limits.minSide || w > limits.maxSide || h > limits.maxSide ||
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > limits.maxPixels)
+    return makeError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
+                     ", expected sides in [" + std::to_string(limits.minSide) + ", " +
+                     std::to_string(limits.maxSide) + "] and at most " +
+                     std::to_string(limits.maxPixels / 1000000) + " megapixels" +
+                     (w < limits.minSide || h < limits.minSide ? limits.minSideReason : ""));
   stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
                                       static_cast<int>(bytes->size()), &w, &h, &comp, 4);
   if (!px) return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
@@ -87,7 +99,68 @@ Result<Image<Rgba8>> readPng(const std::string& path) {
   return img;
 }
 
+namespace {
+int gMaxTextureSize = 8192;
+}  // namespace
+
+void setMaxTextureSize(int px) { gMaxTextureSize = std::max(1, px); }
+int maxTextureSize() { return gMaxTextureSize; }
+
+Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const std::string& what,
+                                   std::string* warning) {
+  if (size == 0 || size > static_cast<std::size_t>(INT32_MAX))
+    return makeError("cannot decode image " + what + ": empty or larger than 2 GiB");
+  const auto* b = static_cast<const stbi_uc*>(bytes);
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp))
+    return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  const std::uint64_t budgetSide = static_cast<std::uint64_t>(std::max(8192, gMaxTextureSize));
+  const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  if (w < 1 || h < 1 || pixels > budgetSide * budgetSide)
+    return makeError(what + ": texture is " + std::to_string(w) + "x" + std::to_string(h) + " (" +
+                     formatBytes(pixels * 4) + " decoded), over the decode budget of " +
+                     std::to_string(budgetSide) + "x" + std::to_string(budgetSide) +
+                     " pixels (--max-texture-size raises it); not decoded");
+  stbi_uc* px = stbi_load_from_memory(b, static_cast<int>(size), &w, &h, &comp, 4);
+  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  const int f = std::max(1, (std::max(w, h) + gMaxTextureSize - 1) / gMaxTextureSize);
+  const int ow = std::max(1, w / f), oh = std::max(1, h / f);
+  Image<Rgba8> img(ow, oh);
+  if (f == 1) {
+    std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  } else {
+    // Box filter over f×f source pixels (the last partial row/column dropped).
+    for (int y = 0; y < oh; ++y)
+      for (int x = 0; x < ow; ++x) {
+        unsigned sum[4] = {0, 0, 0, 0};
+        int n = 0;
+        for (int dy = 0; dy < f && y * f + dy < h; ++dy)
+          for (int dx = 0; dx < f && x * f + dx < w; ++dx) {
+            const stbi_uc* p = px + (static_cast<std::size_t>(y * f + dy) * w + (x * f + dx)) * 4;
+            for (int c = 0; c < 4; ++c) sum[c] += p[c];
+            ++n;
+          }
+        img.at(x, y) = Rgba8{static_cast<std::uint8_t>(sum[0] / n), static_cast<std::uint8_t>(sum[1] / n),
+                             static_cast<std::uint8_t>(sum[2] / n), static_cast<std::uint8_t>(sum[3] / n)};
+      }
+    if (warning)
+      *warning = what + ": texture " + std::to_string(w) + "x" + std::to_string(h) +
+                 " downscaled to " + std::to_string(ow) + "x" + std::to_string(oh) +
+                 " (--max-texture-size " + std::to_string(gMaxTextureSize) + ")";
+  }
+  stbi_image_free(px);
+  return img;
+}
+
+Result<Image<Rgba8>> readTexture(const std::string& path, std::string* warning) {
+  auto bytes = readFile(path, 1ull << 30);
+  if (!bytes) return bytes.error();
+  return decodeTexture(bytes->data(), bytes->size(), path, warning);
+}
+
 Status ensureWritableDir(const std::string& dir) {
+  if (dir.empty()) return makeError("output directory: expected a path, got an empty string");
+  HW_TRY(checkOutputPath(dir, "output directory"));
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return makeError("cannot create output directory " + dir + ": " + ec.message());

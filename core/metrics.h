@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/file_io.h"
 #include "core/image.h"
 
 namespace hw {
@@ -57,6 +58,14 @@ double psnrCapped(const Image<Rgba8>& a, const Image<Rgba8>& b, const Image<std:
 constexpr int kSsimWindow = 11;
 constexpr double kSsimSigma = 1.5;
 double ssim(const Image<Rgba8>& a, const Image<Rgba8>& b);
+// What readPng must accept for images these metrics compare (`compare`):
+// sides of at least kSsimWindow.
+inline ImageLimits metricImageLimits() {
+  ImageLimits l;
+  l.minSide = kSsimWindow;
+  l.minSideReason = " (SSIM needs an 11x11 window)";
+  return l;
+}
 
 // Fraction of pixels where mask != 0, in [0, 1]; 0 for an empty mask.
 double holeFraction(const Image<std::uint8_t>& mask);

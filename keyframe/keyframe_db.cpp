@@ -11,6 +11,8 @@
 #include <thread>
 
 #include "core/file_io.h"
+#include "core/json_guard.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
 
 namespace hw::keyframe {
@@ -125,6 +127,27 @@ Result<Header> parseHeader(std::string_view bytes, const std::string& file) {
                      std::to_string(h.width) + "x" + std::to_string(h.height) +
                      "; expected frame >= 0 and sides in [1, 16384]");
   return h;
+}
+
+bool finiteVec(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// What is wrong with a decoded quad's corners, or "" when they are usable:
+// finite world corners, image corners within a pixel of the image, depths in
+// front of the camera.
+std::string badQuadCorner(const Quad& q, int width, int height) {
+  for (int k = 0; k < 4; ++k) {
+    const std::string corner = "corner " + std::to_string(k);
+    if (!finiteVec(q.world[k])) return corner + " has a non-finite world position";
+    const glm::dvec2 p = q.pixel[k];
+    if (!(p.x >= -1.0 && p.x <= width + 1.0 && p.y >= -1.0 && p.y <= height + 1.0))
+      return corner + " lies outside the image (pixel " + std::to_string(p.x) + ", " +
+             std::to_string(p.y) + ")";
+    if (!(std::isfinite(q.eyeZ[k]) && q.eyeZ[k] > 0.0))
+      return corner + " has eye depth " + std::to_string(q.eyeZ[k]) + ", expected finite > 0";
+  }
+  return "";
 }
 
 }  // namespace
@@ -285,6 +308,11 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
                      std::to_string(h.height));
   if (dm > std::uint32_t(DepthMode::Float32Reversed))
     return makeError(file + ": depth mode " + std::to_string(dm) + ", expected 0..2");
+  if (!finiteVec(c.eye) || !finiteVec(c.right) || !finiteVec(c.up) || !finiteVec(c.forward) ||
+      !(c.fovYRadians > 0.0 && c.fovYRadians < 3.15) || !(c.nearPlane > 0.0) ||
+      !(c.farPlane > c.nearPlane) || !std::isfinite(c.farPlane))
+    return makeError(file + ": camera is not a valid camera (expected finite vectors, a field of "
+                            "view in (0, pi) and 0 < near < far finite)");
   kf.depthMode = static_cast<DepthMode>(dm);
   out.render = RenderStats{};
   out.render.meshesDrawn = r.get<std::uint64_t>();
@@ -337,6 +365,10 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
     }
     for (double& z : q.eyeZ) z = r.get<double>();
     q.maxDelta = r.get<float>();
+    if (auto bad = badQuadCorner(q, h.width, h.height); !bad.empty())
+      return makeError(file + ": quad " + std::to_string(i) + ": " + bad +
+                       " (expected finite corners inside the keyframe's view; file damaged or "
+                       "written by something else)");
     if (q.rect.x0 < 0 || q.rect.y0 < 0 || q.rect.x1 > h.width || q.rect.y1 > h.height ||
         q.rect.x0 >= q.rect.x1 || q.rect.y0 >= q.rect.y1)
       return makeError(file + ": quad " + std::to_string(i) + " rectangle [" +
@@ -382,7 +414,57 @@ std::string keyframeDbIndexJson(const KeyframeDbProvenance& p,
               {"checksum", "hw64 (docs/keyframe-db.md)"},
               {"baked_from", provenanceJson(p)},
               {"keyframes", ks}};
+  doc["index_checksum"] = indexChecksum(doc);
   return doc.dump(1) + "\n";
+}
+
+std::string indexChecksum(const json& index) {
+  json content = index;
+  if (content.is_object()) content.erase("index_checksum");
+  const std::string text = content.dump();
+  return hex64(hw64(text.data(), text.size()));
+}
+
+Result<std::vector<KeyframeDbEntry>> parseKeyframeEntries(const json& entries,
+                                                          const std::string& source) {
+  if (!entries.is_array()) return makeError(source + ": keyframes: expected an array");
+  std::vector<KeyframeDbEntry> out;
+  std::set<int> seen;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const json& k = entries[i];
+    const std::string where = source + ": keyframes[" + std::to_string(i) + "]";
+    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number_integer() ||
+        !k.contains("file") || !k["file"].is_string() || !k.contains("bytes") ||
+        !k["bytes"].is_number_integer() ||
+        (!k["bytes"].is_number_unsigned() && k["bytes"].get<std::int64_t>() < 0) ||
+        !k.contains("checksum") || !k["checksum"].is_string())
+      return makeError(where +
+                       ": expected {frame: int, file: string, bytes: int >= 0, checksum: hex "
+                       "string}");
+    const json& f = k["frame"];
+    const bool frameOk = f.is_number_unsigned()
+                             ? f.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT32_MAX)
+                             : f.get<std::int64_t>() >= 0 && f.get<std::int64_t>() <= INT32_MAX;
+    if (!frameOk)
+      return makeError(where + ".frame: expected an integer in [0, 2147483647], got " + f.dump());
+    KeyframeDbEntry e;
+    e.frame = static_cast<int>(f.get<std::int64_t>());
+    e.file = k["file"].get<std::string>();
+    e.bytes = k["bytes"].get<std::uint64_t>();
+    const std::string cs = k["checksum"].get<std::string>();
+    if (cs.size() != 16 ||
+        cs.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
+      return makeError(where + ".checksum: expected 16 hex digits, got '" + cs.substr(0, 40) + "'");
+    e.checksum = std::strtoull(cs.c_str(), nullptr, 16);
+    if (e.file.empty() || e.file.find('/') != std::string::npos ||
+        e.file.find("..") != std::string::npos)
+      return makeError(source + ": keyframe file '" + e.file +
+                       "' must be a plain name inside the database");
+    if (!seen.insert(e.frame).second)
+      return makeError(where + ".frame: frame " + std::to_string(e.frame) + " listed twice");
+    out.push_back(e);
+  }
+  return out;
 }
 
 Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
@@ -393,18 +475,23 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
                      "': " + (fs::exists(dir, ec) ? "not a directory" : "no such directory") +
                      " (expected a directory written by 'hybridwalk bake')");
   const std::string indexPath = dir + "/index.json";
-  if (!fs::exists(indexPath, ec))
+  if (!fs::exists(indexPath, ec) && !fs::is_symlink(indexPath, ec))
     return makeError(indexPath +
                      ": missing (expected the index of a database written by 'hybridwalk bake'; "
                      "an interrupted bake leaves none)");
-  auto text = readFile(indexPath);
+  auto text = readFile(indexPath, 256ull << 20);
   if (!text) return text.error();
   KeyframeDb db;
   db.dir_ = dir;
-  try {
-    db.index_ = json::parse(*text);
-  } catch (const json::exception& e) {
-    return makeError(indexPath + ": not valid JSON: " + e.what());
+  {
+    auto parsed = parseJsonStrict(*text, indexPath);
+    if (!parsed) {
+      std::string m = parsed.error().message;
+      const std::string invalid = indexPath + ": invalid JSON";
+      if (m.rfind(invalid, 0) == 0) m = indexPath + ": not valid JSON" + m.substr(invalid.size());
+      return makeError(m);
+    }
+    db.index_ = std::move(*parsed);
   }
   const json& ix = db.index_;
   auto field = [&](const char* key, json::value_t t1,
@@ -418,41 +505,94 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
     return makeError(indexPath + ": format '" + ix["format"].get<std::string>() + "', expected '" +
                      kKeyframeDbFormat + "'");
   HW_TRY(field("version", json::value_t::number_unsigned, json::value_t::number_integer));
-  if (ix["version"].get<long long>() != kKeyframeDbVersion)
+  if (ix["version"] != kKeyframeDbVersion)
     return makeError(indexPath + ": database version " + ix["version"].dump() +
                      ", this program reads version " + std::to_string(kKeyframeDbVersion) +
                      " (re-bake the database)");
   HW_TRY(field("baked_from", json::value_t::object));
   HW_TRY(field("keyframes", json::value_t::array));
-  std::set<int> seen;
-  for (const json& k : ix["keyframes"]) {
-    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number_integer() ||
-        !k.contains("file") || !k["file"].is_string() || !k.contains("bytes") ||
-        !k["bytes"].is_number_integer() || !k.contains("checksum") || !k["checksum"].is_string())
-      return makeError(indexPath + ": keyframe entry " + k.dump() +
-                       ": expected {frame: int, file: string, bytes: int, checksum: hex string}");
-    KeyframeDbEntry e;
-    e.frame = k["frame"].get<int>();
-    e.file = k["file"].get<std::string>();
-    e.bytes = k["bytes"].get<std::uint64_t>();
-    const std::string cs = k["checksum"].get<std::string>();
-    char* end = nullptr;
-    e.checksum = std::strtoull(cs.c_str(), &end, 16);
-    if (cs.size() != 16 || *end != '\0')
-      return makeError(indexPath + ": keyframe " + std::to_string(e.frame) + ": checksum '" + cs +
-                       "', expected 16 hex digits");
-    if (e.file.find('/') != std::string::npos || e.file.find("..") != std::string::npos)
-      return makeError(indexPath + ": keyframe file '" + e.file +
-                       "' must be a plain name inside the database");
-    if (e.frame < 0 || !seen.insert(e.frame).second)
-      return makeError(indexPath + ": keyframe frame " + std::to_string(e.frame) +
-                       " negative or listed twice");
-    db.entries_.push_back(e);
-  }
+  auto entries = parseKeyframeEntries(ix["keyframes"], indexPath);
+  if (!entries) return entries.error();
+  db.entries_ = std::move(*entries);
   if (db.entries_.empty()) return makeError(indexPath + ": lists no keyframes");
+  // Last: a damaged entry is named above; an index edited consistently (an
+  // entry dropped or added) is caught here.
+  if (!ix.contains("index_checksum") || !ix["index_checksum"].is_string())
+    return makeError(indexPath +
+                     ": no index_checksum (written by an older hybridwalk, or edited by hand): "
+                     "re-bake the database");
+  const std::string want = indexChecksum(ix);
+  if (ix["index_checksum"].get<std::string>() != want)
+    return makeError(indexPath + ": index_checksum " + ix["index_checksum"].dump() +
+                     ", its content hashes to \"" + want +
+                     "\" (index.json edited or damaged after the bake: re-bake the database)");
+  const json& bf = ix["baked_from"];
+  if (bf.contains("frames") && bf["frames"].is_number_integer())
+    for (const auto& e : db.entries_)
+      if (e.frame >= bf["frames"].get<std::int64_t>())
+        return makeError(indexPath + ": keyframe frame " + std::to_string(e.frame) +
+                         " is past the last frame of the " + bf["frames"].dump() +
+                         "-frame walk it was baked for");
   std::sort(db.entries_.begin(), db.entries_.end(),
             [](const KeyframeDbEntry& a, const KeyframeDbEntry& b) { return a.frame < b.frame; });
   return db;
+}
+
+Status KeyframeDb::checkSchedule(const std::vector<int>& frames) const {
+  const std::vector<int> have = keyframeFrames();
+  std::vector<int> missing, extra;
+  std::set_difference(frames.begin(), frames.end(), have.begin(), have.end(),
+                      std::back_inserter(missing));
+  std::set_difference(have.begin(), have.end(), frames.begin(), frames.end(),
+                      std::back_inserter(extra));
+  if (missing.empty() && extra.empty()) return {};
+  return makeError(dir_ + "/index.json: " +
+                   (missing.empty() ? "holds a keyframe for frame " + std::to_string(extra[0]) +
+                                          ", which this walk's schedule does not have"
+                                    : "has no keyframe for frame " + std::to_string(missing[0]) +
+                                          ", which this walk's schedule needs") +
+                   " (" + std::to_string(have.size()) + " keyframes in the database, " +
+                   std::to_string(frames.size()) + " in the schedule; re-bake the database)");
+}
+
+namespace {
+
+bool near(double a, double b) {
+  return std::abs(a - b) <= 1e-9 * std::max({1.0, std::abs(a), std::abs(b)});
+}
+bool nearVec(const glm::dvec3& a, const glm::dvec3& b) {
+  return near(a.x, b.x) && near(a.y, b.y) && near(a.z, b.z);
+}
+std::string fmtVec(const glm::dvec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%.9g, %.9g, %.9g]", v.x, v.y, v.z);
+  return buf;
+}
+
+}  // namespace
+
+Status checkKeyframeExpectation(const CachedKeyframe& kf, const KeyframeExpectation& want,
+                                const std::string& file) {
+  const Camera& c = kf.keyframe.camera;
+  const Camera w = want.cameraAt(kf.frame);
+  auto differs = [&](const std::string& what, const std::string& have, const std::string& exp) {
+    return makeError(file + ": keyframe of frame " + std::to_string(kf.frame) + " has " + what +
+                     " " + have + ", this walk's frame " + std::to_string(kf.frame) + " has " +
+                     exp + " (a keyframe from another bake: re-bake the database)");
+  };
+  if (c.width != w.width || c.height != w.height)
+    return differs("size", std::to_string(c.width) + "x" + std::to_string(c.height),
+                   std::to_string(w.width) + "x" + std::to_string(w.height));
+  if (want.depthMode && kf.keyframe.depthMode != *want.depthMode)
+    return differs("depth mode", depthModeName(kf.keyframe.depthMode),
+                   depthModeName(*want.depthMode));
+  if (!nearVec(c.eye, w.eye)) return differs("eye", fmtVec(c.eye), fmtVec(w.eye));
+  if (!nearVec(c.forward, w.forward) || !nearVec(c.up, w.up) || !nearVec(c.right, w.right))
+    return differs("view direction", fmtVec(c.forward), fmtVec(w.forward));
+  if (!near(c.fovYRadians, w.fovYRadians) || !near(c.nearPlane, w.nearPlane) ||
+      !near(c.farPlane, w.farPlane))
+    return differs("projection (fov, near, far)", "differing", "others");
+  return {};
 }
 
 std::vector<int> KeyframeDb::keyframeFrames() const {
@@ -496,8 +636,15 @@ Status KeyframeDb::read(int frame, CachedKeyframe& out) const {
     return makeError(dir_ + "/index.json: no keyframe for frame " + std::to_string(frame) +
                      " (the database's keyframes differ from this walk's schedule)");
   const std::string path = dir_ + "/" + it->file;
-  auto bytes = readFile(path);
-  if (!bytes) return bytes.error();
+  // Never more than index.json promised (plus one byte, to say "grown").
+  auto bytes = readFile(path, it->bytes + 1);
+  if (!bytes) {
+    auto size = regularFileSize(path);
+    if (size && *size > it->bytes)
+      return makeError(path + ": grown: index.json says " + std::to_string(it->bytes) +
+                       " bytes, file has " + std::to_string(*size));
+    return bytes.error();
+  }
   if (bytes->size() != it->bytes)
     return makeError(path + ": " + (bytes->size() < it->bytes ? "truncated" : "grown") +
                      ": index.json says " + std::to_string(it->bytes) + " bytes, file has " +
@@ -510,6 +657,7 @@ Status KeyframeDb::read(int frame, CachedKeyframe& out) const {
   if (out.frame != frame)
     return makeError(path + ": holds frame " + std::to_string(out.frame) + ", index.json says " +
                      std::to_string(frame));
+  if (expect_) HW_TRY(checkKeyframeExpectation(out, *expect_, path));
   return {};
 }
 

@@ -5,7 +5,9 @@
 // rendering them. Format: docs/keyframe-db.md. CPU only.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -68,6 +70,29 @@ struct KeyframeDbEntry {
 std::string keyframeDbIndexJson(const KeyframeDbProvenance& p,
                                 const std::vector<KeyframeDbEntry>& entries);
 
+// What a walk expects of every keyframe it reads from a database: the camera
+// of that frame on its own path (which fixes size, projection and pose) and
+// its depth mode. A database whose index was edited consistently (entries
+// swapped in from another path, or baked at another size) passes every
+// checksum; this catches it when the keyframe is read.
+struct KeyframeExpectation {
+  std::function<Camera(int frame)> cameraAt;
+  std::optional<DepthMode> depthMode;  // unset: any (the viewer takes the database's)
+};
+// Error naming the first camera field, size or depth mode that differs.
+Status checkKeyframeExpectation(const CachedKeyframe& kf, const KeyframeExpectation& want,
+                                const std::string& file);
+
+// Entries of index.json's "keyframes" array (or a chunk result's "entries"):
+// each {frame: 0..2^31-1, file: plain name, bytes, checksum: 16 hex digits};
+// frames unique. `source` names the file in messages.
+Result<std::vector<KeyframeDbEntry>> parseKeyframeEntries(const nlohmann::json& entries,
+                                                          const std::string& source);
+
+// hw64 of index.json's content without its "index_checksum" member (compact
+// dump, keys sorted): the value stored in "index_checksum".
+std::string indexChecksum(const nlohmann::json& index);
+
 class KeyframeDb {
  public:
   // Reads and checks DIR/index.json (format, version, entries). Keyframe
@@ -84,11 +109,19 @@ class KeyframeDb {
   std::vector<int> keyframeFrames() const;
   const nlohmann::json& index() const { return index_; }
   const std::string& dir() const { return dir_; }
+  // Error unless the database holds keyframes for exactly `frames` (the walk's
+  // schedule), naming the first frame missing or extra.
+  Status checkSchedule(const std::vector<int>& frames) const;
+  // Every keyframe read from now on is checked against `want`.
+  void setExpectation(KeyframeExpectation want) {
+    expect_ = std::make_shared<const KeyframeExpectation>(std::move(want));
+  }
   // Reads, checks (size and checksum against the index too) and decodes the
   // keyframe of `frame`. Safe to call from several threads.
   Status read(int frame, CachedKeyframe& out) const;
 
  private:
+  std::shared_ptr<const KeyframeExpectation> expect_;
   std::string dir_;
   nlohmann::json index_;
   std::vector<KeyframeDbEntry> entries_;

@@ -11,6 +11,8 @@
 #include <sstream>
 
 #include "core/file_io.h"
+#include "core/json_guard.h"
+#include "core/metrics.h"
 
 namespace hw::scenes {
 namespace {
@@ -38,6 +40,25 @@ std::string describe(const Json& j) {
   return s;
 }
 
+// Input limits (docs/bad-input.md, "Limits"). Frames below SSIM's window
+// cannot be measured; a camera farther out than kMaxCoordinate makes the
+// Catmull-Rom and look-at arithmetic overflow (1e308 gives inf − inf = NaN);
+// the projection is built in single precision, so a subnormal near plane or a
+// vanishing field of view gives an all-blank image.
+constexpr int kMinPathSide = kSsimWindow;
+constexpr double kMaxCoordinate = 1e9;
+constexpr double kMinNear = 1e-6;
+constexpr double kMaxFarOverNear = 1e8;
+constexpr double kMinFovDeg = 1e-3;
+constexpr int kMaxPathFrames = 1000000;
+constexpr std::uint64_t kMaxPathFileBytes = 64ull << 20;
+
+std::string fmtNum(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 struct Ctx {
   std::string source;
   Error fail(const std::string& key, const std::string& expected, const Json& got) const {
@@ -47,6 +68,12 @@ struct Ctx {
     return makeError(source + ": " + key + ": " + what);
   }
 };
+
+Error tooSmall(const Ctx& c, const std::string& key, int v) {
+  return c.fail(key, "expected at least " + std::to_string(kMinPathSide) +
+                         " pixels (the SSIM metric uses an " + std::to_string(kMinPathSide) + "x" +
+                         std::to_string(kMinPathSide) + " window), got " + std::to_string(v));
+}
 
 Result<double> getNumber(const Ctx& c, const Json& j, const std::string& key) {
   if (!j.is_number()) return c.fail(key, "a number", j);
@@ -77,8 +104,14 @@ Result<glm::dvec3> getVec3(const Ctx& c, const Json& j, const std::string& key) 
   if (!j.is_array() || j.size() != 3) return c.fail(key, "an array of 3 numbers", j);
   glm::dvec3 v(0.0);
   for (int i = 0; i < 3; ++i) {
-    auto x = getNumber(c, j[static_cast<std::size_t>(i)], key + "[" + std::to_string(i) + "]");
+    const std::string name = key + "[" + std::to_string(i) + "]";
+    auto x = getNumber(c, j[static_cast<std::size_t>(i)], name);
     if (!x) return x.error();
+    if (std::abs(*x) > kMaxCoordinate)
+      return c.fail(name,
+                    "a coordinate of magnitude at most " + fmtNum(kMaxCoordinate) +
+                        " (camera arithmetic beyond that overflows)",
+                    j[static_cast<std::size_t>(i)]);
     v[i] = *x;
   }
   return v;
@@ -219,14 +252,9 @@ std::vector<Camera> CameraPath::cameras() const {
 
 Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::string& source) {
   const Ctx c{source};
-  Json root;
-  try {
-    root = Json::parse(jsonText);
-  } catch (const Json::parse_error& e) {
-    return makeError(source + ": invalid JSON at byte " + std::to_string(e.byte) + ": " + e.what());
-  } catch (const std::exception& e) {
-    return makeError(source + ": invalid JSON: " + e.what());
-  }
+  auto parsed = parseJsonStrict(jsonText, source);
+  if (!parsed) return parsed.error();
+  const Json& root = *parsed;
   if (!root.is_object()) return c.fail("(top level)", "an object", root);
 
   static const char* const kKnown[] = {"width", "height", "fov_y_deg", "near",          "far",
@@ -245,11 +273,13 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
   if (root.contains("width")) {
     auto v = getInt(c, root["width"], "width", 1, 16384);
     if (!v) return v.error();
+    if (*v < kMinPathSide) return tooSmall(c, "width", *v);
     p.width = *v;
   }
   if (root.contains("height")) {
     auto v = getInt(c, root["height"], "height", 1, 16384);
     if (!v) return v.error();
+    if (*v < kMinPathSide) return tooSmall(c, "height", *v);
     p.height = *v;
   }
   if (root.contains("fov_y_deg")) {
@@ -257,22 +287,43 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
     if (!v) return v.error();
     if (!(*v > 0.0 && *v < 180.0))
       return c.fail("fov_y_deg", "a number in (0, 180)", root["fov_y_deg"]);
+    if (*v < kMinFovDeg)
+      return c.fail("fov_y_deg",
+                    "at least " + fmtNum(kMinFovDeg) +
+                        " degrees (a narrower view has no representable projection in single "
+                        "precision: frames would be blank)",
+                    root["fov_y_deg"]);
     p.fovYDeg = *v;
   }
   if (root.contains("near")) {
     auto v = getNumber(c, root["near"], "near");
     if (!v) return v.error();
     if (!(*v > 0.0)) return c.fail("near", "a number > 0", root["near"]);
+    if (*v < kMinNear)
+      return c.fail("near",
+                    "a number >= " + fmtNum(kMinNear) +
+                        " (a nearer plane underflows the single-precision projection: frames "
+                        "would be blank)",
+                    root["near"]);
     p.nearPlane = *v;
   }
   if (root.contains("far")) {
     auto v = getNumber(c, root["far"], "far");
     if (!v) return v.error();
+    if (std::abs(*v) > kMaxCoordinate)
+      return c.fail("far", "a distance of at most " + fmtNum(kMaxCoordinate), root["far"]);
     p.farPlane = *v;
   }
   if (!(p.farPlane > p.nearPlane)) {
     std::ostringstream s;
     s << "expected far > near, got near " << p.nearPlane << " and far " << p.farPlane;
+    return c.fail(root.contains("far") ? "far" : "near", s.str());
+  }
+  if (p.farPlane / p.nearPlane > kMaxFarOverNear) {
+    std::ostringstream s;
+    s << "expected far / near <= " << kMaxFarOverNear
+      << " (the depth buffer has no resolution left beyond that), got near " << p.nearPlane
+      << " and far " << p.farPlane;
     return c.fail(root.contains("far") ? "far" : "near", s.str());
   }
   if (root.contains("up")) {
@@ -284,6 +335,11 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
   {
     auto v = getInt(c, root["frames"], "frames", 1, std::numeric_limits<int>::max());
     if (!v) return v.error();
+    if (*v > kMaxPathFrames)
+      return c.fail("frames",
+                    "at most " + std::to_string(kMaxPathFrames) +
+                        " frames (one camera per frame is kept in memory)",
+                    root["frames"]);
     p.frames = *v;
   }
   if (root.contains("keyframe_every")) {
@@ -325,7 +381,7 @@ Result<CameraPath> parseCameraPath(const std::string& jsonText, const std::strin
 }
 
 Result<CameraPath> loadCameraPath(const std::string& file) {
-  auto text = readFile(file);
+  auto text = readFile(file, kMaxPathFileBytes);
   if (!text) return text.error();
   return parseCameraPath(*text, file);
 }

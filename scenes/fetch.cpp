@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <set>
 
 #include "core/file_io.h"
 
@@ -200,7 +202,22 @@ std::vector<std::string> findPk3s(const std::string& dir) {
                                       fs::directory_options::follow_directory_symlink |
                                           fs::directory_options::skip_permission_denied,
                                       ec);
+  // Directory symlinks are followed (the unpacked packages use them), but a
+  // directory already seen (a link pointing back up) is not entered again.
+  std::set<std::pair<dev_t, ino_t>> seenDirs;
+  std::set<std::pair<dev_t, ino_t>> seenFiles;
+  struct stat rootSt {};
+  if (::stat(dir.c_str(), &rootSt) == 0) seenDirs.insert({rootSt.st_dev, rootSt.st_ino});
+  constexpr int kMaxPk3Depth = 16;
   for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    struct stat st {};
+    if (::stat(it->path().c_str(), &st) != 0) continue;
+    if (S_ISDIR(st.st_mode)) {
+      if (!seenDirs.insert({st.st_dev, st.st_ino}).second || it.depth() >= kMaxPk3Depth)
+        it.disable_recursion_pending();
+      continue;
+    }
+    if (!S_ISREG(st.st_mode) || !seenFiles.insert({st.st_dev, st.st_ino}).second) continue;
     std::string ext = it->path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });

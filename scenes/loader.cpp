@@ -11,7 +11,9 @@
 #include <stb_image.h>  // implementation compiled in core/file_io.cpp
 
 #include <algorithm>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
+#include <sys/stat.h>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -25,7 +27,10 @@
 #include <string_view>
 
 #include "core/file_io.h"
+#include "core/json_guard.h"
+#include "core/safe_io.h"
 #include "scenes/fetch.h"
+#include "scenes/floor_walk.h"
 #include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
@@ -37,22 +42,140 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kDefaultTargetTriangles = 100'000;
 
-Result<Image<Rgba8>> decodeImage(const unsigned char* bytes, std::size_t size,
-                                 const std::string& what) {
-  if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    return makeError("cannot decode image " + what + ": empty or too large");
-  int w = 0, h = 0, comp = 0;
-  stbi_uc* px = stbi_load_from_memory(bytes, static_cast<int>(size), &w, &h, &comp, 4);
-  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
-  Image<Rgba8> img(w, h);
-  std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  stbi_image_free(px);
-  return img;
+bool gExternalRefsAllowed = false;
+
+// Whether `file` lies in the folder tree `root` (both made absolute and
+// canonical as far as they exist, so "../" and symlinks out are seen).
+bool insideTree(const fs::path& root, const fs::path& file) {
+  std::error_code ec;
+  const fs::path c = fs::weakly_canonical(fs::absolute(file, ec), ec);
+  if (ec) return false;
+  const fs::path rel = c.lexically_relative(root);
+  return !rel.empty() && *rel.begin() != ".." && !rel.is_absolute();
 }
 
-Result<Image<Rgba8>> embeddedImage(const aiTexture& t, const std::string& what) {
+// Assimp's file access for one model: files outside the model's folder tree
+// (unless allowed) and anything that is not a regular file (a FIFO would
+// block the reader) are reported missing, and the first such request is kept
+// for the error message.
+class ConfinedIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  ConfinedIOSystem(fs::path root, bool allowExternal)
+      : root_(std::move(root)), allowExternal_(allowExternal) {}
+  bool Exists(const char* file) const override {
+    return allowed(file) && DefaultIOSystem::Exists(file);
+  }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (!allowed(file)) return nullptr;
+    return DefaultIOSystem::Open(file, mode);
+  }
+  const std::string& refused() const { return refused_; }
+
+ private:
+  bool allowed(const char* file) const {
+    struct stat st {};
+    if (::stat(file, &st) == 0 && !S_ISREG(st.st_mode)) {
+      if (refused_.empty())
+        refused_ = "'" + std::string(file) + "', which is " + fileKindName(st.st_mode) +
+                   " (expected a regular file)";
+      return false;
+    }
+    if (allowExternal_ || insideTree(root_, file)) return true;
+    if (refused_.empty())
+      refused_ = "'" + std::string(file) + "', outside the model's folder " + root_.string() +
+                 " (refused; pass --allow-external-refs to permit)";
+    return false;
+  }
+  fs::path root_;
+  bool allowExternal_;
+  mutable std::string refused_;
+};
+
+// Every bufferView lies inside its buffer's declared byteLength, computed
+// without wrapping: Assimp adds offset and length in 64 bits, so an offset of
+// 2^64 − 4 passed its check and read before the buffer ("1 triangles", exit 0).
+Status checkGltfJson(std::string_view text, const std::string& path) {
+  HW_TRY(checkJsonNesting(text, path));
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return {};  // not JSON: Assimp's reader says what is wrong
+  if (!j.is_object() || !j.contains("bufferViews")) return {};
+  const nlohmann::json& views = j["bufferViews"];
+  const nlohmann::json* buffers = j.contains("buffers") ? &j["buffers"] : nullptr;
+  if (!views.is_array()) return makeError(path + ": bufferViews: expected an array");
+  auto count = [](const nlohmann::json& v, std::uint64_t* out) {
+    if (!v.is_number_unsigned()) return false;
+    *out = v.get<std::uint64_t>();
+    return true;
+  };
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const nlohmann::json& v = views[i];
+    const std::string where = path + ": bufferViews[" + std::to_string(i) + "]";
+    std::uint64_t buffer = 0, offset = 0, length = 0, bufferLength = 0;
+    if (!v.is_object() || !v.contains("buffer") || !count(v["buffer"], &buffer) ||
+        !v.contains("byteLength") || !count(v["byteLength"], &length) ||
+        (v.contains("byteOffset") && !count(v["byteOffset"], &offset)))
+      return makeError(where +
+                       ": expected {buffer, byteLength, byteOffset} as non-negative integers");
+    if (!buffers || !buffers->is_array() || buffer >= buffers->size() ||
+        !(*buffers)[buffer].is_object() || !(*buffers)[buffer].contains("byteLength") ||
+        !count((*buffers)[buffer]["byteLength"], &bufferLength))
+      return makeError(where + ": buffer " + std::to_string(buffer) +
+                       " does not exist or has no byteLength");
+    if (offset > bufferLength || length > bufferLength - offset)
+      return makeError(where + ": byteOffset " + std::to_string(offset) + " + byteLength " +
+                       std::to_string(length) + " lies outside buffer " + std::to_string(buffer) +
+                       " of " + std::to_string(bufferLength) + " bytes");
+  }
+  return {};
+}
+
+// glTF JSON nests far less than kMaxJsonDepth; Assimp's reader recurses per
+// level, so deeper text would overflow the stack. .glb: the header's lengths
+// must fit in the file before anything is allocated from them.
+Status prescanGltf(const std::string& path, const std::string& ext) {
+  auto bytes = readFile(path, 1ull << 30);
+  if (!bytes) return bytes.error();
+  if (ext == ".gltf") return checkGltfJson(*bytes, path);
+  const std::string& b = *bytes;
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+  };
+  if (b.size() < 20 || b.compare(0, 4, "glTF") != 0)
+    return makeError(path + ": not a binary glTF file (expected the magic 'glTF' and a 20-byte "
+                            "header, got " + std::to_string(b.size()) + " bytes)");
+  const std::uint64_t total = u32(8), chunk0 = u32(12);
+  if (total > b.size())
+    return makeError(path + ": header declares " + std::to_string(total) +
+                     " bytes, the file has " + std::to_string(b.size()) + " (truncated or damaged)");
+  if (chunk0 > b.size() - 20)
+    return makeError(path + ": first chunk declares " + std::to_string(chunk0) +
+                     " bytes, only " + std::to_string(b.size() - 20) +
+                     " follow the header (truncated or damaged)");
+  std::size_t at = 20 + static_cast<std::size_t>(chunk0);
+  while (at + 8 <= b.size()) {  // later chunks (BIN)
+    const std::uint64_t len = u32(at);
+    if (len > b.size() - at - 8)
+      return makeError(path + ": chunk at byte " + std::to_string(at) + " declares " +
+                       std::to_string(len) + " bytes, only " + std::to_string(b.size() - at - 8) +
+                       " remain (truncated or damaged)");
+    at += 8 + static_cast<std::size_t>(len);
+  }
+  if (u32(16) == 0x4E4F534Au)  // "JSON"
+    return checkGltfJson(std::string_view(b).substr(20, chunk0), path);
+  return {};
+}
+
+Result<Image<Rgba8>> decodeImage(const unsigned char* bytes, std::size_t size,
+                                 const std::string& what, std::string* warning) {
+  return decodeTexture(bytes, size, what, warning);
+}
+
+Result<Image<Rgba8>> embeddedImage(const aiTexture& t, const std::string& what,
+                                   std::string* warning) {
   if (t.mHeight == 0)  // compressed (PNG/JPG… bytes), mWidth = byte count
-    return decodeImage(reinterpret_cast<const unsigned char*>(t.pcData), t.mWidth, what);
+    return decodeImage(reinterpret_cast<const unsigned char*>(t.pcData), t.mWidth, what, warning);
   Image<Rgba8> img(static_cast<int>(t.mWidth), static_cast<int>(t.mHeight));
   for (std::size_t i = 0; i < img.size(); ++i) {
     const aiTexel& s = t.pcData[i];
@@ -94,12 +217,15 @@ struct TextureCache {
   fs::path folder;
   std::string file;
   std::map<std::string, int> byName;
+  fs::path confinedTo;  // non-empty: textures must lie in this folder tree
+  std::string refused;  // the first texture refused for lying outside it
 
   // Texture index for a material's texture reference; never fails (uses a
   // placeholder and records a warning).
   int get(const std::string& ref) {
     if (auto it = byName.find(ref); it != byName.end()) return it->second;
     Result<Image<Rgba8>> img = makeError("");
+    std::string warning;  // set when the texture was downscaled
     const aiTexture* emb = nullptr;
     if (!ref.empty() && ref[0] == '*') {
       char* end = nullptr;
@@ -110,15 +236,24 @@ struct TextureCache {
       emb = ai->GetEmbeddedTexture(ref.c_str());
     }
     if (emb) {
-      img = embeddedImage(*emb, file + " (embedded texture " + ref + ")");
+      img = embeddedImage(*emb, file + " (embedded texture " + ref + ")", &warning);
     } else if (ref.empty() || ref[0] == '*') {
       img = makeError(file + ": embedded texture " + ref + " does not exist");
     } else if (auto path = resolveTexturePath(folder, ref)) {
-      img = readPng(path->string());  // stb: PNG, JPG, TGA, BMP, …
+      if (!confinedTo.empty() && !insideTree(confinedTo, *path)) {
+        img = makeError(file + ": texture '" + ref + "' lies outside the model's folder " +
+                        confinedTo.string() + " (refused; pass --allow-external-refs to permit)");
+        if (refused.empty())
+          refused = "texture '" + ref + "', outside the model's folder " + confinedTo.string() +
+                    " (refused; pass --allow-external-refs to permit)";
+      } else {
+        img = readTexture(path->string(), &warning);  // stb: PNG, JPG, TGA, BMP, …
+      }
     } else {
       img = makeError(file + ": texture '" + ref + "' not found next to the model (in " +
                       folder.string() + ")");
     }
+    if (!warning.empty()) scene->warnings.push_back(warning);
     Texture t;
     t.name = ref;
     if (img.ok() && !img->empty()) {
@@ -273,7 +408,8 @@ struct BuiltinSpec {
 
 const char* const kBuiltinHelp =
     "built-in scenes: indoor, outdoor, indoor:N, outdoor:N (N = target triangles, e.g. 100k, 1M; "
-    "default 100k); q3:MAPNAME for an OpenArena map (see `hybridwalk scenes fetch`)";
+    "default 100k); q3:MAP, torcs:TRACK, morse:ENV/FILE after `hybridwalk scenes fetch "
+    "[--outdoor]`; `hybridwalk scenes list` names them all";
 
 // nullopt: not a built-in name; error: a built-in name with a bad count.
 Result<std::optional<BuiltinSpec>> parseBuiltin(const std::string& spec) {
@@ -420,15 +556,18 @@ Status checkPly(const std::string& path) {
 
 }  // namespace
 
+void setExternalRefsAllowed(bool allowed) { gExternalRefsAllowed = allowed; }
+bool externalRefsAllowed() { return gExternalRefsAllowed; }
+
 Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options) {
   std::error_code ec;
   if (path.empty()) return makeError("scene file: empty path");
   if (!fs::exists(path, ec)) return makeError(path + ": no such file");
   if (fs::is_directory(path, ec))
     return makeError(path + ": is a directory, expected a model file");
-  const auto size = fs::file_size(path, ec);
-  if (ec) return makeError(path + ": cannot read: " + ec.message());
-  if (size == 0) return makeError(path + ": file is empty");
+  auto sizeOrError = regularFileSize(path);  // devices and FIFOs are refused here
+  if (!sizeOrError) return sizeOrError.error();
+  if (*sizeOrError == 0) return makeError(path + ": file is empty");
 
   try {
     Assimp::Importer importer;
@@ -440,6 +579,10 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
           ".3ds, .ac, .pk3)");
     }
     if (ext == ".ply") HW_TRY(checkPly(path));
+    if (ext == ".gltf" || ext == ".glb") HW_TRY(prescanGltf(path, ext));
+    fs::path root = fs::weakly_canonical(fs::absolute(path, ec), ec).parent_path();
+    auto* io = new ConfinedIOSystem(root, options.allowExternalRefs);
+    importer.SetIOHandler(io);  // the importer owns it
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
@@ -447,6 +590,8 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
                            aiProcess_SortByPType | aiProcess_FlipUVs |
                            aiProcess_ValidateDataStructure;
     const aiScene* ai = importer.ReadFile(path, flags);
+    if (!io->refused().empty())
+      return makeError(path + ": the model references " + io->refused());
     if (!ai) {
       const std::string why = importer.GetErrorString();
       if (why.find("mNumMeshes is 0") != std::string::npos)
@@ -459,10 +604,12 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
 
     Scene scene;
     scene.name = fs::path(path).stem().string();
-    TextureCache cache{&scene, ai, fs::path(path).parent_path(), path, {}};
+    TextureCache cache{&scene, ai, fs::path(path).parent_path(), path, {},
+                       options.allowExternalRefs ? fs::path() : root, {}};
     if (cache.folder.empty()) cache.folder = ".";
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
       scene.materials.push_back(convertMaterial(*ai->mMaterials[i], cache));
+    if (!cache.refused.empty()) return makeError(path + ": the model references " + cache.refused);
     if (scene.materials.empty())
       scene.materials.push_back(Material{"default", glm::vec4(0.8f), -1});
 
@@ -558,8 +705,13 @@ Result<Scene> loadScene(const std::string& spec) {
 }
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
+  return defaultPathFor(spec, DefaultPathOptions{}, nullptr);
+}
+
+Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOptions& options,
+                                  std::vector<std::string>* notes) {
   std::error_code ec;
-  if (auto outdoor = outdoorDefaultPath(spec)) return std::move(*outdoor);
+  if (auto outdoor = outdoorDefaultPath(spec, options, notes)) return std::move(*outdoor);
   if (auto q3 = q3MapName(spec); q3 && !fs::exists(spec, ec)) {
     auto map = loadQ3Spec(*q3);
     if (!map) return map.error();
@@ -574,6 +726,11 @@ Result<CameraPath> defaultPathFor(const std::string& spec) {
   }
   auto scene = loadSceneFile(spec);
   if (!scene) return scene.error();
+  FloorWalkOptions walk;
+  walk.eyeHeight = options.eyeHeight;
+  auto floor = floorWalkPath(*scene, walk);
+  if (floor) return floor;
+  if (notes) notes->push_back(floor.error().message + "; the default path orbits the bounds instead");
   return flythroughPathFor(*scene);
 }
 

@@ -2,12 +2,18 @@
 // Scene files through Assimp (OBJ, glTF, PLY, COLLADA, 3DS, FBX, …) and the
 // scene "spec" strings of the command line: built-in names or a file path.
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
 namespace hw::scenes {
+
+// Process-wide default of LoadOptions::allowExternalRefs (the command line's
+// --allow-external-refs). Off unless set.
+void setExternalRefsAllowed(bool allowed);
+bool externalRefsAllowed();
 
 struct LoadOptions {
   // Force a Z-up → Y-up conversion ((x, y, z) → (x, z, −y)). When false, the
@@ -16,6 +22,10 @@ struct LoadOptions {
   // Meshes with more triangles than this are split into spatial chunks so
   // that frustum culling has something to cull; 0 disables splitting.
   std::size_t maxTrianglesPerMesh = 20'000;
+  // Files the model names (glTF buffers and images, OBJ mtllib, textures) must
+  // lie in the model's folder tree unless this is set (--allow-external-refs;
+  // default: externalRefsAllowed()).
+  bool allowExternalRefs = externalRefsAllowed();
 };
 
 // Loads a model into a Y-up Scene: triangulated, node transforms applied
@@ -33,9 +43,27 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options 
 // model file. An existing file always wins over a built-in name.
 Result<Scene> loadScene(const std::string& spec);
 
+// Settings of the default paths that the user may change (zero: each kind's own).
+struct DefaultPathOptions {
+  // Speed along a TORCS track's centreline, metres per frame (0: 450 m over
+  // the path's 240 frames, 1.9 m/frame).
+  double metresPerFrame = 0.0;
+  // Eye above the floor or road, in scene units (0: 1.2 m in a TORCS car,
+  // 1.7 m walking a MORSE terrain, scaled from the scene's size in a model
+  // file's fly-through).
+  double eyeHeight = 0.0;
+};
+
 // Default camera path for a spec: the built-in walks for "indoor"/"outdoor",
-// else a flythrough of the file's scene (loads the file; see flythroughPathFor).
+// q3 maps through their spawns, TORCS tracks along their centreline, MORSE
+// terrains on foot; a model file is walked over its floor at eye height
+// (loads the file; scenes/floor_walk.h), or, where no floor is found,
+// orbited (flythroughPathFor) with a note saying so.
+// `notes` (may be null) receives what the path had to fall back on, for the
+// user (e.g. a TORCS track without its description).
 Result<CameraPath> defaultPathFor(const std::string& spec);
+Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOptions& options,
+                                  std::vector<std::string>* notes);
 
 // A closed loop of 8 keys inside the scene's bounds at mid height, looking at
 // the centre; near/far from the bounds' diagonal. 512×512, fov 60°, 120 frames.

@@ -30,6 +30,8 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/floor_walk.h"
+#include "scenes/torcs_track.h"
 
 namespace hw::scenes {
 namespace {
@@ -37,6 +39,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kMaxAcDepth = 256;  // object nesting; deeper files are refused, not recursed into
+// Largest count a declared numvert/refs may reserve before its lines are read.
+constexpr long long kAcReserveLimit = 1 << 16;
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -52,14 +56,8 @@ bool hasCutout(const Image<Rgba8>& img) {
 Result<Image<Rgba8>> decodeStb(const std::string& bytes, const std::string& what) {
   if (bytes.empty() || bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     return makeError("cannot decode image " + what + ": empty or too large");
-  int w = 0, h = 0, comp = 0;
-  stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                      static_cast<int>(bytes.size()), &w, &h, &comp, 4);
-  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
-  Image<Rgba8> img(w, h);
-  std::memcpy(img.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  stbi_image_free(px);
-  return img;
+  std::string downscaled;  // TORCS/MORSE textures are far below the limit; not reported
+  return decodeTexture(bytes.data(), bytes.size(), what, &downscaled);
 }
 
 bool isSgi(const std::string& bytes) {
@@ -395,18 +393,24 @@ class AcParser {
         local.loc = glm::vec3(l[0], l[1], l[2]);
       } else if (kw == "numvert") {
         if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numvert N'", line);
-        positions.resize(static_cast<std::size_t>(n));
-        normals.resize(static_cast<std::size_t>(n));
-        for (std::size_t i = 0; i < positions.size(); ++i) {
+        // Grown as lines arrive: a declared count allocates nothing by
+        // itself (an 84-byte file declaring 50M vertices took 1.2 GB).
+        positions.clear();
+        normals.clear();
+        positions.reserve(static_cast<std::size_t>(std::min<long long>(n, kAcReserveLimit)));
+        normals.reserve(positions.capacity());
+        for (long long i = 0; i < n; ++i) {
           if (!next(&line)) return eof(std::to_string(n) + " vertex lines after numvert");
           double v[6];
           const int k = numbers(line, v, 6);
           if (k < 3) return fail("expected a vertex 'X Y Z [NX NY NZ]'", line);
-          positions[i] = glm::vec3(v[0], v[1], v[2]);
+          positions.push_back(glm::vec3(v[0], v[1], v[2]));
           if (k == 6)
-            normals[i] = glm::vec3(v[3], v[4], v[5]);
-          else
+            normals.push_back(glm::vec3(v[3], v[4], v[5]));
+          else {
+            normals.push_back(glm::vec3(0.0f));
             haveNormals = false;
+          }
         }
       } else if (kw == "numsurf") {
         if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numsurf N'", line);
@@ -415,6 +419,11 @@ class AcParser {
           long long flags = 0;
           if (keyword(line) != "SURF" || !integer(rest(line), &flags))
             return fail("expected 'SURF FLAGS'", line);
+          // Material 0 unless a 'mat' line follows: there must be one.
+          if (acMaterials_.empty())
+            return fail("expected a MATERIAL line before the first SURF (a surface uses "
+                        "material 0 unless it says 'mat N')",
+                        line);
           Pending p{static_cast<int>(flags), 0, {}};
           bool gotRefs = false;
           while (!gotRefs) {
@@ -431,8 +440,10 @@ class AcParser {
             } else if (skw == "refs") {
               if (!integer(rest(line), &v) || v < 0 || v > 10'000'000)
                 return fail("expected 'refs N'", line);
-              p.refs.resize(static_cast<std::size_t>(v));
-              for (auto& r : p.refs) {
+              p.refs.clear();
+              p.refs.reserve(static_cast<std::size_t>(std::min<long long>(v, kAcReserveLimit)));
+              for (long long ri = 0; ri < v; ++ri) {
+                auto& r = p.refs.emplace_back();
                 if (!next(&line)) return eof("a 'INDEX U V' line of refs");
                 double q[3] = {0, 0, 0};
                 if (numbers(line, q, 3) < 1 || q[0] < 0 ||
@@ -916,17 +927,28 @@ std::optional<Result<Scene>> loadOutdoorSpec(const std::string& spec) {
   return loadOutdoorFile(**file);
 }
 
-std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec) {
+std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
+                                                     const DefaultPathOptions& options,
+                                                     std::vector<std::string>* notes) {
   auto file = outdoorFileOf(spec);
   if (!file) return std::nullopt;
   if (!*file) return Result<CameraPath>(file->error());
   if (lower(fs::path(**file).extension().string()) == ".acc") {
-    auto track = loadTorcsTrack(**file);
-    if (!track) return Result<CameraPath>(track.error());
-    return drivePath(*track);
+    DrivePathOptions o;
+    o.metresPerFrame = options.metresPerFrame;
+    if (options.eyeHeight > 0) o.eyeHeightMetres = options.eyeHeight;
+    return torcsDefaultPath(**file, o, notes);
   }
   auto scene = loadBlendFile(**file);
   if (!scene) return Result<CameraPath>(scene.error());
+  // On foot over the environment's floor (indoors under its roof); the
+  // circle below where no floor is found.
+  FloorWalkOptions fw;
+  fw.eyeHeight = options.eyeHeight > 0 ? options.eyeHeight : 1.7;
+  fw.frames = 240;
+  auto floor = floorWalkPath(*scene, fw);
+  if (floor) return floor;
+  if (notes) notes->push_back(floor.error().message + "; walking a circle over the terrain instead");
   const TriangleGrid grid(*scene);
   const glm::dvec3 lo(scene->boundsMin), hi(scene->boundsMax), c = 0.5 * (lo + hi);
   const double r = 0.25 * std::min(hi.x - lo.x, hi.z - lo.z);
@@ -935,7 +957,9 @@ std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec) {
     const double t = 2.0 * 3.14159265358979323846 * k / 24;
     circle.push_back({c.x + r * std::cos(t), c.z + r * std::sin(t)});
   }
-  return terrainWalkPath(grid, circle);
+  TerrainWalkOptions walk;
+  if (options.eyeHeight > 0) walk.eyeHeightMetres = options.eyeHeight;
+  return terrainWalkPath(grid, circle, walk);
 }
 
 // ------------------------------------------------------------------ queries
@@ -967,11 +991,15 @@ double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm
 
 TriangleGrid::TriangleGrid(const Scene& scene, double cellSize) : cellSize_(cellSize) {
   HW_CHECK(cellSize > 0);
-  for (const Mesh& m : scene.meshes)
+  for (const Mesh& m : scene.meshes) {
+    if (m.material >= 0 && static_cast<std::size_t>(m.material) < scene.materials.size() &&
+        scene.materials[static_cast<std::size_t>(m.material)].sky)
+      continue;
     for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
       tris_.push_back({glm::dvec3(m.vertices[m.indices[i]].position),
                        glm::dvec3(m.vertices[m.indices[i + 1]].position),
                        glm::dvec3(m.vertices[m.indices[i + 2]].position)});
+  }
   if (tris_.empty()) return;
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (const Tri& t : tris_)
@@ -1029,7 +1057,10 @@ std::vector<double> TriangleGrid::hitsBelow(const glm::dvec3& from) const {
       const double l2 =
           ((t.c.z - t.a.z) * (from.x - t.c.x) + (t.a.x - t.c.x) * (from.z - t.c.z)) / d;
       const double l3 = 1 - l1 - l2;
-      if (l1 < 0 || l2 < 0 || l3 < 0) continue;
+      // A point on a shared edge (spawns and floors on the same grid) must
+      // not fall through the crack between two triangles.
+      constexpr double kEdge = -1e-7;
+      if (l1 < kEdge || l2 < kEdge || l3 < kEdge) continue;
       const double h = l1 * t.a.y + l2 * t.b.y + l3 * t.c.y;
       if (h <= from.y) hits.push_back(h);
     }
@@ -1058,6 +1089,92 @@ bool TriangleGrid::segmentClear(const glm::dvec3& a, const glm::dvec3& b, double
     if (distanceToNearest(a + (b - a) * (static_cast<double>(i) / n), clearance) < clearance)
       return false;
   return true;
+}
+
+std::optional<double> TriangleGrid::rayHit(const glm::dvec3& origin, const glm::dvec3& dir,
+                                           double maxDistance) const {
+  if (tris_.empty()) return std::nullopt;
+  // March through the cells the ray crosses (Amanatides & Woo 1987), testing
+  // their triangles (Möller & Trumbore 1997); the nearest hit in a cell is
+  // final once it lies before the cell's exit.
+  const glm::dvec3 hiB = origin_ + glm::dvec3(dims_) * cellSize_;
+  double t0 = 0.0, t1 = maxDistance;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(dir[k]) < 1e-12) {
+      if (origin[k] < origin_[k] || origin[k] > hiB[k]) return std::nullopt;
+      continue;
+    }
+    double a = (origin_[k] - origin[k]) / dir[k], b = (hiB[k] - origin[k]) / dir[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (t0 > t1) return std::nullopt;
+  glm::ivec3 c = cellOf(origin + dir * t0);
+  glm::ivec3 stepI(0);
+  glm::dvec3 tMax(std::numeric_limits<double>::infinity()), tDelta(tMax);
+  for (int k = 0; k < 3; ++k) {
+    if (dir[k] > 0) {
+      stepI[k] = 1;
+      tMax[k] = (origin_[k] + (c[k] + 1) * cellSize_ - origin[k]) / dir[k];
+      tDelta[k] = cellSize_ / dir[k];
+    } else if (dir[k] < 0) {
+      stepI[k] = -1;
+      tMax[k] = (origin_[k] + c[k] * cellSize_ - origin[k]) / dir[k];
+      tDelta[k] = -cellSize_ / dir[k];
+    }
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (int guard = 0; guard < dims_.x + dims_.y + dims_.z + 3; ++guard) {
+    for (std::uint32_t i : cells_[(static_cast<std::size_t>(c.z) * dims_.y + c.y) * dims_.x + c.x]) {
+      const Tri& t = tris_[i];
+      const glm::dvec3 e1 = t.b - t.a, e2 = t.c - t.a, p = glm::cross(dir, e2);
+      const double det = glm::dot(e1, p);
+      if (std::abs(det) < 1e-14) continue;
+      const glm::dvec3 s = origin - t.a;
+      const double u = glm::dot(s, p) / det;
+      if (u < 0 || u > 1) continue;
+      const glm::dvec3 q = glm::cross(s, e1);
+      const double v = glm::dot(dir, q) / det;
+      if (v < 0 || u + v > 1) continue;
+      const double tt = glm::dot(e2, q) / det;
+      if (tt > 1e-9 && tt < best) best = tt;
+    }
+    const double exit = std::min({tMax.x, tMax.y, tMax.z});
+    if (best <= exit) break;
+    if (exit > t1) break;
+    const int k = tMax.x == exit ? 0 : tMax.y == exit ? 1 : 2;
+    c[k] += stepI[k];
+    if (c[k] < 0 || c[k] >= dims_[k]) break;
+    tMax[k] += tDelta[k];
+  }
+  if (best <= maxDistance) return best;
+  return std::nullopt;
+}
+
+double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const glm::dvec3& forward,
+                        double fovYDeg, double maxDistance, int n) {
+  const glm::dvec3 w = glm::normalize(forward);
+  glm::dvec3 u = glm::cross(w, glm::dvec3(0, 1, 0));
+  if (glm::length(u) < 1e-9) u = glm::dvec3(1, 0, 0);
+  u = glm::normalize(u);
+  const glm::dvec3 v = glm::cross(u, w);
+  const double h = std::tan(0.5 * fovYDeg * 3.14159265358979323846 / 180.0);
+  int open = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = (2.0 * (i + 0.5) / n - 1.0) * h, y = (1.0 - 2.0 * (j + 0.5) / n) * h;
+      if (!grid.rayHit(eye, glm::normalize(w + x * u + y * v), maxDistance)) ++open;
+    }
+  return static_cast<double>(open) / (n * n);
+}
+
+EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxClearance) {
+  EyeCheck c;
+  const std::vector<double> hits = grid.hitsBelow(eye);
+  if (!hits.empty()) c.floorDrop = eye.y - hits.front();
+  c.clearance = grid.distanceToNearest(eye, maxClearance);
+  return c;
 }
 
 // ------------------------------------------------------------------ paths

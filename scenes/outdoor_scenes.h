@@ -15,6 +15,7 @@
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
+#include "scenes/loader.h"
 #include "scenes/scene.h"
 
 namespace hw::scenes {
@@ -119,14 +120,20 @@ std::optional<Result<Scene>> loadOutdoorFile(const std::string& path);
 // The hooks of loader.cpp: an existing .acc/.blend file, "torcs:NAME" or
 // "morse:ENV/FILE" (in defaultSceneCacheDir()). nullopt: not ours.
 std::optional<Result<Scene>> loadOutdoorSpec(const std::string& spec);
-// Their default paths: drivePath (defaults) for tracks; for .blend scenes a
-// terrainWalkPath around a circle of 0.25 × the smaller ground extent.
-std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec);
+// Their default paths: for tracks torcsDefaultPath (scenes/torcs_track.h:
+// the track description's centreline, else drivePath's trace); for .blend
+// scenes a floorWalkPath at 1.7 m (scenes/floor_walk.h), else (no floor
+// found, with a note) a terrainWalkPath around a circle of 0.25 × the
+// smaller ground extent.
+std::optional<Result<CameraPath>> outdoorDefaultPath(const std::string& spec,
+                                                     const DefaultPathOptions& options = {},
+                                                     std::vector<std::string>* notes = nullptr);
 
 // ---------------------------------------------------------------- queries
 
-// Uniform grid over a scene's triangles (world space) for ground-height and
-// clearance queries; brute force inside cells. Built once, read-only after.
+// Uniform grid over a scene's triangles (world space) for ground-height,
+// clearance and ray queries; brute force inside cells. Sky surfaces
+// (Material::sky) are left out. Built once, read-only after.
 class TriangleGrid {
  public:
   explicit TriangleGrid(const Scene& scene, double cellSize = 2.0);
@@ -140,6 +147,10 @@ class TriangleGrid {
   // True when the segment a→b stays at least `clearance` from every
   // triangle (checked at steps of clearance/2).
   bool segmentClear(const glm::dvec3& a, const glm::dvec3& b, double clearance) const;
+  // Distance along the unit direction `dir` from `origin` to the first
+  // triangle hit (either side), or nullopt when none is within maxDistance.
+  std::optional<double> rayHit(const glm::dvec3& origin, const glm::dvec3& dir,
+                               double maxDistance) const;
 
   std::size_t triangleCount() const { return tris_.size(); }
 
@@ -157,6 +168,25 @@ class TriangleGrid {
   std::vector<std::vector<std::uint32_t>> cells_;
 };
 
+// Where an eye stands: the drop to the first surface straight below it
+// (nullopt: nothing below, the eye is over the void) and the distance to
+// the nearest triangle (capped at maxClearance; ~0: inside a wall).
+struct EyeCheck {
+  std::optional<double> floorDrop;
+  double clearance = 0.0;
+  // Above a floor within maxDrop and at least minClearance from every surface.
+  bool playable(double maxDrop, double minClearance) const {
+    return floorDrop && *floorDrop <= maxDrop && clearance >= minClearance;
+  }
+};
+EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxClearance = 1.0);
+
+// The fraction of a view that sees nothing within maxDistance (sky or void):
+// rays through an n × n grid of pixel centres of a camera at `eye` looking
+// along `forward` (up +Y, square image, vertical field of view fovYDeg).
+double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const glm::dvec3& forward,
+                        double fovYDeg, double maxDistance, int n = 16);
+
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
 double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
                              const glm::dvec3& c);
@@ -173,6 +203,9 @@ struct DrivePathOptions {
   double lookAheadMetres = 12.0;  // look-at point this far along the centreline
   double startMetres = 0.0;       // where along the loop the path starts
   double lengthMetres = 450.0;    // how much of the loop it drives (≤ loop length)
+  // Speed in metres per frame; > 0 overrides lengthMetres: the path drives
+  // metresPerFrame × (frames − 1) metres (at most one loop).
+  double metresPerFrame = 0.0;
   bool reverse = false;           // drive the loop the other way (needs a closed trace)
   // roadCentreline stops once it has traced this much (drivePath asks for
   // what it drives); a closed loop ends earlier.

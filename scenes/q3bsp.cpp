@@ -17,10 +17,13 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
+#include "core/file_io.h"
 #include "scenes/loader.h"  // flythroughPathFor
+#include "scenes/outdoor_scenes.h"  // TriangleGrid
 
 namespace hw::scenes {
 namespace {
@@ -351,6 +354,14 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
         return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
                          "): expected \"origin\" \"x y z\" with 3 finite numbers, got \"" +
                          kv["origin"].substr(0, 60) + "\"");
+      // Finite but huge (1e300) gave a NaN camera path and a CHECK abort;
+      // maps are at most a few 10^4 units across.
+      constexpr double kMaxOriginUnits = 1e7;
+      for (double v : o)
+        if (!(std::abs(v) <= kMaxOriginUnits))
+          return makeError(where + ": entity " + std::to_string(entity) + " (" + cls +
+                           "): origin \"" + kv["origin"].substr(0, 60) +
+                           "\": expected coordinates of magnitude at most 1e7 units");
       double yaw = 0.0;
       std::array<double, 1> a{};
       std::array<double, 3> pyr{};
@@ -421,14 +432,23 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     shaders[i].contents = readI32(p + 68);
   }
   std::map<std::string, int> textureByPath;
+  std::vector<glm::vec2> uvScaleOf;  // per material: its stage's tcMod scale
   auto materialFor = [&](std::size_t shaderIndex) -> int {
     ShaderInfo& sh = shaders[shaderIndex];
     if (sh.material != -2) return sh.material;
-    if (skipReason(sh.lower, sh.flags, sh.contents)) return sh.material = -1;
+    const char* why = skipReason(sh.lower, sh.flags, sh.contents);
+    const bool sky = why && std::strcmp(why, "sky") == 0;
+    if (why && !sky) return sh.material = -1;
     Material m;
     m.name = sh.name;
     Q3Texture t;
     if (resolve) t = resolve(sh.name);
+    if (sky) {  // drawn only with an image: the sky's own (unlit, both sides)
+      if (t.image.empty()) return sh.material = -1;
+      m.sky = m.unlit = true;
+      t.twoSided = true;
+      t.alphaTest = false;
+    }
     m.twoSided = t.twoSided;
     m.alphaTest = t.alphaTest;
     m.alphaCutoff = t.alphaCutoff;
@@ -452,6 +472,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
       scene.textures.push_back(std::move(tex));
     }
     scene.materials.push_back(std::move(m));
+    uvScaleOf.push_back(t.uvScale);
     return sh.material = static_cast<int>(scene.materials.size()) - 1;
   };
 
@@ -524,9 +545,13 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
                          " of lump 10 (vertices) has a non-finite position or texture coordinate");
     }
 
-    if (skipReason(shaders[shader].lower, shaders[shader].flags, shaders[shader].contents)) {
-      ++map.stats.skippedFaces;
-      continue;
+    if (const char* why =
+            skipReason(shaders[shader].lower, shaders[shader].flags, shaders[shader].contents)) {
+      if (std::strcmp(why, "sky") != 0 || materialFor(static_cast<std::size_t>(shader)) < 0) {
+        ++map.stats.skippedFaces;
+        continue;
+      }
+      ++map.stats.skyFaces;
     }
     const std::size_t faceTris =
         type == kPatch ? static_cast<std::size_t>((patchW - 1) / 2) *
@@ -588,7 +613,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
         Vertex out;
         out.position = yUp(v.xyz) * static_cast<float>(kQ3MetresPerUnit);
         out.normal = yUp(finite(v.normal) ? safeNormalize(v.normal, faceNormal) : faceNormal);
-        out.uv = v.st;
+        out.uv = v.st * uvScaleOf[static_cast<std::size_t>(material)];
         mesh.vertices.push_back(out);
       }
       for (std::size_t t = 0; t + 2 < tri.size(); t += 3)
@@ -645,7 +670,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
         Vertex out;
         out.position = yUp(s.p) * static_cast<float>(kQ3MetresPerUnit);
         out.normal = yUp(safeNormalize(sign * c, glm::vec3(0, 0, 1)));
-        out.uv = s.st;
+        out.uv = s.st * uvScaleOf[static_cast<std::size_t>(material)];
         mesh.vertices.push_back(out);
       }
     for (int gy = 0; gy + 1 < gh; ++gy)
@@ -810,6 +835,9 @@ struct ShaderDef {
   bool twoSided = false;
   bool alphaTest = false;
   float alphaCutoff = 0.5f;
+  glm::vec2 uvScale{1.0f};         // the first image stage's tcMod scale
+  std::string skyBox;              // skyParms far box (e.g. env/sky1), "" for none
+  std::set<std::string> notDrawn;  // features we do not draw
 };
 
 // Parses one scripts/*.shader text into `defs` (later definitions replace
@@ -831,17 +859,21 @@ std::string parseShaderScript(std::string_view text, const std::string& where,
     std::string stageImage;
     bool stageAlpha = false;
     float stageCutoff = 0.5f;
+    glm::vec2 stageScale(1.0f);
+    int stages = 0;
     std::optional<Token> t = tok.next();
     while (t && depth > 0) {
       if (isBrace(*t, '{')) {
         ++depth;
-        stageImage.clear(), stageAlpha = false;
+        if (depth == 2 && ++stages == 2) def.notDrawn.insert("further stages (only the first image stage is drawn)");
+        stageImage.clear(), stageAlpha = false, stageScale = glm::vec2(1.0f);
         t = tok.next();
         continue;
       }
       if (isBrace(*t, '}')) {
         if (depth == 2 && !stageHasImage && !stageImage.empty()) {
           def.image = stageImage, def.alphaTest = stageAlpha, def.alphaCutoff = stageCutoff;
+          def.uvScale = stageScale;
           stageHasImage = true;
         }
         if (--depth == 0) break;  // the next token is the next shader's name
@@ -861,10 +893,34 @@ std::string parseShaderScript(std::string_view text, const std::string& where,
           const std::string a = toLower(args[0]);
           def.twoSided = a == "none" || a == "disable" || a == "twosided";
         }
+        if (key == "skyparms" && !args.empty() && args[0] != "-") def.skyBox = args[0];
+        if (key == "deformvertexes") def.notDrawn.insert("deformVertexes");
       } else if (depth == 2) {
         std::string img;
         if ((key == "map" || key == "clampmap") && !args.empty()) img = args[0];
-        if (key == "animmap" && args.size() >= 2) img = args[1];
+        if (key == "animmap" && args.size() >= 2) {
+          img = args[1];
+          def.notDrawn.insert("animMap animation (first frame drawn)");
+        }
+        if ((key == "map" || key == "clampmap") && !args.empty() && toLower(args[0]) == "$lightmap")
+          def.notDrawn.insert("lightmaps");
+        if (key == "tcmod" && !args.empty()) {
+          const std::string op = toLower(args[0]);
+          if (op == "scale" && args.size() >= 3) {
+            const float su = std::strtof(args[1].c_str(), nullptr);
+            const float sv = std::strtof(args[2].c_str(), nullptr);
+            if (std::isfinite(su) && std::isfinite(sv) && std::abs(su) < 1e4f && std::abs(sv) < 1e4f)
+              stageScale = glm::vec2(su, sv);
+          } else {
+            def.notDrawn.insert("tcMod " + op);
+          }
+        }
+        if (key == "tcgen" && !args.empty() && toLower(args[0]) != "base" &&
+            toLower(args[0]) != "texture")
+          def.notDrawn.insert("tcGen " + toLower(args[0]));
+        if ((key == "rgbgen" || key == "alphagen") && !args.empty() &&
+            toLower(args[0]) != "identity" && toLower(args[0]) != "identitylighting")
+          def.notDrawn.insert(key == "rgbgen" ? "rgbGen " + toLower(args[0]) : "alphaGen " + toLower(args[0]));
         if (!img.empty() && img[0] != '$' && img[0] != '*' && stageImage.empty()) stageImage = img;
         if (key == "alphafunc" && !args.empty()) {
           const std::string a = toLower(args[0]);
@@ -931,6 +987,7 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
   }
 
   std::unordered_map<std::string, Image<Rgba8>> decoded;
+  std::map<std::string, int> notDrawnCount;  // feature → shaders of this map using it
   // The game's image lookup: the name without extension, as .tga, then .jpg.
   auto findImage = [&](const std::string& name) -> const Pk3Set::Entry* {
     const std::string stem = stripExtension(name);
@@ -947,7 +1004,10 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       t.twoSided = it->second.twoSided;
       t.alphaTest = it->second.alphaTest;
       t.alphaCutoff = it->second.alphaCutoff;
-      for (const std::string& n : {it->second.image, shaderName, it->second.editor}) {
+      t.uvScale = it->second.uvScale;
+      for (const std::string& f : it->second.notDrawn) ++notDrawnCount[f];
+      const std::string skyUp = it->second.skyBox.empty() ? "" : it->second.skyBox + "_up";
+      for (const std::string& n : {it->second.image, skyUp, shaderName, it->second.editor}) {
         if (n.empty() || e) continue;
         e = findImage(n);
         tried += (tried.empty() ? "" : ", ") + stripExtension(n) + ".tga/.jpg";
@@ -973,25 +1033,27 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       t.error = data.error().message;
       return t;
     }
-    int w = 0, h = 0, comp = 0;
-    stbi_uc* px = data->size() <= static_cast<std::size_t>(std::numeric_limits<int>::max())
-                      ? stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data->data()),
-                                              static_cast<int>(data->size()), &w, &h, &comp, 4)
-                      : nullptr;
-    if (!px) {
-      t.error = t.path + ": cannot decode image: " +
-                (stbi_failure_reason() ? stbi_failure_reason() : "too large");
+    std::string downscaled;
+    auto img = decodeTexture(data->data(), data->size(), t.path, &downscaled);
+    data = makeError("");  // the compressed bytes are not needed any more
+    if (!img) {
+      t.error = img.error().message;
       return t;
     }
-    t.image = Image<Rgba8>(w, h);
-    std::memcpy(t.image.data(), px, static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-    stbi_image_free(px);
+    if (!downscaled.empty()) warnings.push_back(downscaled);
+    t.image = std::move(*img);
     decoded.emplace(t.path, t.image);
     return t;
   };
 
   auto map = parseQ3Bsp(*bytes, pk3s->describe(**entry), resolve, options);
   if (!map) return map.error();
+  if (!notDrawnCount.empty()) {
+    std::string list;
+    for (const auto& [f, n] : notDrawnCount)
+      list += (list.empty() ? "" : ", ") + f + " (" + std::to_string(n) + ")";
+    map->scene.warnings.push_back(map->scene.name + ": shader features not drawn (shaders using them): " + list);
+  }
   map->scene.name = mapName;
   map->scene.warnings.insert(map->scene.warnings.begin(), warnings.begin(), warnings.end());
   return map;
@@ -1005,6 +1067,7 @@ bool segmentBlocked(const Scene& scene, const glm::vec3& a, const glm::vec3& b) 
   const glm::vec3 d = b - a;
   const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
   for (const Mesh& m : scene.meshes) {
+    if (scene.materials[static_cast<std::size_t>(m.material)].sky) continue;
     if (glm::any(glm::lessThan(m.boundsMax, lo)) || glm::any(glm::greaterThan(m.boundsMin, hi)))
       continue;
     for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
@@ -1033,6 +1096,20 @@ bool segmentBlocked(const Scene& scene, const glm::vec3& a, const glm::vec3& b) 
 CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
   if (map.spawns.empty()) return flythroughPathFor(map.scene);
   const std::size_t n = map.spawns.size();
+  const TriangleGrid grid(map.scene);
+  // Some spawns float above the floor (the game drops the player onto it):
+  // stand each one on the first surface below its feet.
+  std::vector<Q3Spawn> spawns = map.spawns;
+  constexpr double kOriginAboveFeet = 24.0 * kQ3MetresPerUnit;
+  for (Q3Spawn& s : spawns) {
+    const std::vector<double> below = grid.hitsBelow(s.origin);
+    if (below.empty()) continue;
+    const double drop = (s.origin.y - kOriginAboveFeet) - below.front();
+    if (drop > 0.05) {
+      s.origin.y -= drop;
+      s.eye.y -= drop;
+    }
+  }
   maxKeys = std::max(maxKeys, 2);
   std::map<std::pair<std::size_t, std::size_t>, bool> clearCache;
   auto clear = [&](std::size_t i, std::size_t j) {
@@ -1040,7 +1117,7 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     auto it = clearCache.find(key);
     if (it != clearCache.end()) return it->second;
     const bool c =
-        !segmentBlocked(map.scene, glm::vec3(map.spawns[i].eye), glm::vec3(map.spawns[j].eye));
+        !segmentBlocked(map.scene, glm::vec3(spawns[i].eye), glm::vec3(spawns[j].eye));
     clearCache.emplace(key, c);
     return c;
   };
@@ -1049,11 +1126,11 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     std::vector<bool> used(n, false);
     used[start] = true;
     while (chain.size() < static_cast<std::size_t>(maxKeys)) {
-      const glm::dvec3 from = map.spawns[chain.back()].eye;
+      const glm::dvec3 from = spawns[chain.back()].eye;
       std::vector<std::pair<double, std::size_t>> order;
       for (std::size_t j = 0; j < n; ++j)
-        if (!used[j] && glm::length(map.spawns[j].eye - from) > 0.5)
-          order.push_back({glm::length(map.spawns[j].eye - from), j});
+        if (!used[j] && glm::length(spawns[j].eye - from) > 0.5)
+          order.push_back({glm::length(spawns[j].eye - from), j});
       std::sort(order.begin(), order.end());
       std::optional<std::size_t> next;
       for (std::size_t k = 0; k < order.size() && k < 6 && !next; ++k)
@@ -1064,26 +1141,54 @@ CameraPath q3SpawnWalk(const Q3Map& map, int maxKeys) {
     }
     return chain;
   };
-  std::vector<std::size_t> best;
-  for (std::size_t s = 0; s < n && s < 16 && best.size() < static_cast<std::size_t>(maxKeys); ++s) {
-    auto c = chainFrom(s);
-    if (c.size() > best.size()) best = std::move(c);
-  }
-
   CameraPath p;
   const double diag = glm::length(glm::dvec3(map.scene.boundsMax - map.scene.boundsMin));
   p.nearPlane = 0.05;
   p.farPlane = std::clamp(1.2 * diag, 50.0, 2000.0);
+  // The longest chain; among equally long ones, the one whose first view
+  // sees the least sky or void (open maps: not a start looking into the sky).
+  auto firstView = [&](const std::vector<std::size_t>& c) {
+    glm::dvec3 dir = c.size() > 1 ? spawns[c[1]].eye - spawns[c[0]].eye : spawns[c[0]].forward;
+    dir.y = 0.0;
+    if (glm::length(dir) < 1e-6) dir = spawns[c[0]].forward;
+    return openViewFraction(grid, spawns[c[0]].eye, dir, p.fovYDeg, p.farPlane, 12);
+  };
+  std::vector<std::size_t> best;
+  double bestOpen = 2.0;
+  for (std::size_t s = 0; s < n && s < 16; ++s) {
+    auto c = chainFrom(s);
+    if (c.size() < best.size()) continue;
+    const double open = firstView(c);
+    if (c.size() > best.size() || open < bestOpen) {
+      best = std::move(c);
+      bestOpen = open;
+    }
+  }
+
   p.frames = 120;
   p.keyframeEvery = 10;
   std::vector<glm::dvec3> eyes;
-  for (std::size_t i : best) eyes.push_back(map.spawns[i].eye);
-  if (eyes.size() < 2) eyes.push_back(eyes[0] + 2.0 * map.spawns[best[0]].forward);
+  for (std::size_t i : best) eyes.push_back(spawns[i].eye);
+  if (eyes.size() < 2) eyes.push_back(eyes[0] + 2.0 * spawns[best[0]].forward);
   for (std::size_t k = 0; k < eyes.size(); ++k) {
     glm::dvec3 dir = k + 1 < eyes.size() ? eyes[k + 1] - eyes[k] : eyes[k] - eyes[k - 1];
     dir.y = 0.0;  // look level, along the walk
-    if (glm::length(dir) < 1e-6) dir = map.spawns[best[std::min(k, best.size() - 1)]].forward;
-    p.keys.push_back({eyes[k], eyes[k] + 2.0 * glm::normalize(dir)});
+    if (glm::length(dir) < 1e-6) dir = spawns[best[std::min(k, best.size() - 1)]].forward;
+    dir = glm::normalize(dir);
+    // Look down a little (up to 15°) where looking level sees mostly sky.
+    glm::dvec3 look = dir;
+    double lookOpen = 2.0;
+    for (double deg : {0.0, 5.0, 10.0, 15.0}) {
+      const double a = deg * 3.14159265358979323846 / 180.0;
+      const glm::dvec3 d = std::cos(a) * dir - std::sin(a) * glm::dvec3(0, 1, 0);
+      const double open = openViewFraction(grid, eyes[k], d, p.fovYDeg, p.farPlane, 12);
+      if (open < lookOpen - 0.02) {
+        look = d;
+        lookOpen = open;
+      }
+      if (lookOpen < 0.4) break;
+    }
+    p.keys.push_back({eyes[k], eyes[k] + 2.0 * look});
   }
   return p;
 }
@@ -1109,6 +1214,14 @@ Result<std::vector<Q3Spawn>> q3Spawns(const std::string& mapName, const Q3Option
   auto ent = lumpOf(b, source, kLumpEntities, 1);
   if (!ent) return ent.error();
   return parseQ3Spawns(std::string_view(ent->data, ent->count), source, options);
+}
+
+Q3ShaderScriptSummary summarizeQ3ShaderScript(std::string_view text, const std::string& where) {
+  std::unordered_map<std::string, ShaderDef> defs;
+  Q3ShaderScriptSummary out;
+  out.warning = parseShaderScript(text, where, defs);
+  out.shaders = defs.size();
+  return out;
 }
 
 }  // namespace hw::scenes

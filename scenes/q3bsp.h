@@ -60,13 +60,15 @@ struct Q3Texture {
   bool twoSided = false;   // shader "cull none/disable/twosided"
   bool alphaTest = false;  // shader "alphaFunc"
   float alphaCutoff = 0.5f;
+  glm::vec2 uvScale{1.0f};  // the drawn stage's "tcMod scale"
 };
 using Q3TextureResolver = std::function<Q3Texture(const std::string& shaderName)>;
 
 struct Q3Stats {
   std::size_t faces = 0;         // all faces in the file
   std::size_t patches = 0;       // type-2 faces tessellated
-  std::size_t skippedFaces = 0;  // sky/nodraw/fog/clip/trigger/caulk and billboards
+  std::size_t skippedFaces = 0;  // nodraw/fog/clip/trigger/caulk, billboards, sky without an image
+  std::size_t skyFaces = 0;      // sky faces drawn (unlit) with their shader's image
   std::size_t missingTextures = 0;
   // Polygon/mesh triangles whose front (after reversing Quake's clockwise
   // order) faces away from their vertex normals; ≈ 0 for a sane map.
@@ -94,15 +96,24 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
                                            const Q3Options& options = {});
 
 // Loads maps/<mapName>.bsp (case-insensitive) from options.pk3Paths, with
-// textures from the same pk3s: a shader script's first image stage, else the
-// shader name + ".tga", then + ".jpg". Errors name the pk3/entry: unreadable,
+// textures from the same pk3s: a shader script's first image stage (with its
+// "tcMod scale"), for a sky shader its cloud stage or else its skyParms box's
+// top image ("_up"), else the shader name + ".tga", then + ".jpg". Sky faces
+// are drawn unlit with that image on the sky brushes (not as a box at
+// infinity). The shader features of the map's shaders that are not drawn
+// (blended further stages, tcMod scroll/rotate/turb/stretch, tcGen
+// environment, deformVertexes, rgbGen/alphaGen, animMap animation,
+// lightmaps) are listed in one Scene::warnings line. Errors name the pk3/entry: unreadable,
 // not a zip, truncated, missing map (listing the maps that do exist).
 Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options);
 
-// A walk at eye height through the spawns: from the spawn that starts the
-// longest chain, each next key is the nearest unvisited spawn in clear line
-// of sight of the previous one (the segment between their eyes hits no
-// triangle), up to `maxKeys` keys; each key looks towards the next.
+// A walk at eye height through the spawns, each first stood on the surface
+// below it (spawns may float; the game drops the player): from the spawn
+// that starts the longest chain (ties: the one whose first view sees the
+// least sky/void), each next key is the nearest unvisited spawn in clear
+// line of sight of the previous one (the segment between their eyes hits no
+// triangle), up to `maxKeys` keys; each key looks towards the next, level,
+// or up to 15° down where looking level sees mostly sky or void.
 // Catmull-Rom as CameraPath does; 120 frames, a keyframe every 10, near
 // 0.05 m, far from the map's size. A map whose spawns see no other spawn
 // walks 2 m forward from its first spawn; a map without spawns gets
@@ -114,5 +125,15 @@ Result<std::vector<std::string>> listQ3Maps(const std::vector<std::string>& pk3P
 
 // The map's spawns only (reads just the BSP's entities lump).
 Result<std::vector<Q3Spawn>> q3Spawns(const std::string& mapName, const Q3Options& options);
+
+// One scripts/*.shader text as the map loader reads it: how many shaders it
+// defines, and a warning naming `where` and the line for a malformed file
+// (its remaining shaders are ignored), empty when well-formed. For tests and
+// the fuzz target; never fails otherwise.
+struct Q3ShaderScriptSummary {
+  std::size_t shaders = 0;
+  std::string warning;
+};
+Q3ShaderScriptSummary summarizeQ3ShaderScript(std::string_view text, const std::string& where);
 
 }  // namespace hw::scenes

@@ -31,6 +31,8 @@ struct Material {
   float alphaCutoff = 0.5f;
   bool twoSided = false;       // draw back faces too
   bool unlit = false;          // emissive (sky, lamps): no shading
+  bool sky = false;            // a sky surface: a backdrop, not something to stand on or see
+                               // through to (TriangleGrid leaves it out; views count it as sky)
 };
 
 // One draw unit: a single material, counter-clockwise front faces, indexed

@@ -9,7 +9,8 @@
 # executions, executions per second, new inputs and coverage per target.
 #
 # Usage: scripts/fuzz.sh [options] [NAME...]
-#   NAME            camera_path, q3bsp, lod (the */NAME_fuzz.cpp targets);
+#   NAME            camera_path, q3bsp, lod, torcs_track, keyframe_db, acc,
+#                   q3shader, json_guard, texture (the */NAME_fuzz.cpp targets);
 #                   default: all of them, one after another
 #   --time S        seconds per target (default 600 = 10 minutes)
 #   --work DIR      scratch corpora, crashes and logs (default out/fuzz;
@@ -37,7 +38,7 @@ while [ $# -gt 0 ]; do
     --work) work=${2:-}; shift 2 || { echo "fuzz.sh: --work needs a value" >&2; exit 2; } ;;
     --merge) merge=1; shift ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "fuzz.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) names+=("${1%_fuzz}"); shift ;;
   esac

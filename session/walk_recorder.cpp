@@ -2,10 +2,12 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include "core/file_io.h"
 #include "core/json_util.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
 
 namespace hw::session {
@@ -33,7 +35,12 @@ WalkRecorder::~WalkRecorder() {
 
 Status WalkRecorder::open() {
   if (scratchPath_.empty()) return {};
-  scratch_ = std::fopen(scratchPath_.c_str(), "w+b");
+  // Unnamed (O_TMPFILE) where the file system allows: nothing is left even
+  // after SIGKILL; a named one is removed on SIGINT/SIGTERM.
+  const std::filesystem::path p(scratchPath_);
+  std::string named;
+  scratch_ = openScratchFile(p.parent_path().string(), p.filename().string(), &named);
+  if (!named.empty()) registration_ = std::make_unique<TemporaryFile>(named);
   if (!scratch_) return makeError("cannot write " + scratchPath_ + ": " + std::strerror(errno));
   return {};
 }

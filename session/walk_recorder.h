@@ -5,6 +5,7 @@
 // (docs/walk-report.md). The frame loop (session/walk.cpp) decides; this
 // only keeps and writes.
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 
 #include "core/image.h"
 #include "core/result.h"
+#include "core/safe_io.h"
 #include "session/walk.h"
 
 namespace hw::session {
@@ -58,6 +60,7 @@ class WalkRecorder {
   bool keepFrames_;
   std::string scratchPath_;
   std::FILE* scratch_ = nullptr;
+  std::unique_ptr<TemporaryFile> registration_;  // removes a named scratch on SIGINT/SIGTERM
   bool firstWritten_ = false;
   nlohmann::json frames_ = nlohmann::json::array();
 };

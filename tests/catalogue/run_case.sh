@@ -153,7 +153,179 @@ if [[ $command == *path_nested.json* ]]; then
     >"$tmp/path_nested.json"
 fi
 
+# TORCS tracks (tracks/CATEGORY/NAME/NAME.acc + NAME.xml): a small model
+# (one quad) and track descriptions with one thing wrong each.
+acc_quad='AC3Db\nMATERIAL "m" rgb 0.5 0.5 0.5  amb 0.2 0.2 0.2  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\nname "ground"\nnumvert 4\n0 0 0\n500 0 0\n500 0 -500\n0 0 -500\nnumsurf 1\nSURF 0x10\nmat 0\nrefs 4\n0 0 0\n1 1 0\n2 1 1\n3 0 1\nkids 0\n'
+torcs_seg() { printf '<section name="%s"><attstr name="type" val="%s"/>%s</section>\n' "$@"; }
+torcs_xml() {  # NAME SEGMENTS...: tracks/road/NAME/NAME.{acc,xml}
+  local n=$1; shift
+  mkdir -p "$tmp/tracks/road/$n"
+  printf "$acc_quad" >"$tmp/tracks/road/$n/$n.acc"
+  { printf '<?xml version="1.0"?>\n<params name="%s" type="trackdef">\n<section name="Main Track">\n<attnum name="width" unit="m" val="10"/>\n<section name="Track Segments">\n' "$n"
+    printf '%s' "$@"
+    printf '</section>\n</section>\n</params>\n'; } >"$tmp/tracks/road/$n/$n.xml"
+}
+str200=$(torcs_seg front str '<attnum name="lg" unit="m" val="200"/>')
+turn=$(torcs_seg turn lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')
+torcs_xml oval "$str200" "$turn" "$(torcs_seg back str '<attnum name="lg" unit="m" val="200"/>')" \
+  "$(torcs_seg 'last turn' lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')"
+torcs_xml open "$str200" "$turn" "$(torcs_seg back str '<attnum name="lg" unit="m" val="150"/>')" \
+  "$(torcs_seg 'last turn' lft '<attnum name="radius" unit="m" val="50"/><attnum name="arc" unit="deg" val="180"/>')"
+torcs_xml zig "$str200" "$(torcs_seg wiggle zig '')"
+torcs_xml nolen "$(torcs_seg front str '')"
+torcs_xml badnum "$(torcs_seg front str '<attnum name="lg" unit="m" val="2OO"/>')"
+torcs_xml cut "$str200"
+head -c 120 "$tmp/tracks/road/cut/cut.xml" >"$tmp/cut.xml" && mv "$tmp/cut.xml" "$tmp/tracks/road/cut/cut.xml"
+mkdir -p "$tmp/tracks/road/nodesc" && printf "$acc_quad" >"$tmp/tracks/road/nodesc/nodesc.acc"
+
 touch "$tmp/a_file"
+
+# Hostile input (docs/bad-input.md "Hostile input"): special files where a
+# regular file is expected, declared sizes far beyond the bytes present,
+# nesting, duplicate keys, references out of the model's folder.
+mkfifo "$tmp/fifo.json" "$tmp/fifo.png" "$tmp/fifo.obj" "$tmp/fifo_out"
+ln -s /dev/null "$tmp/null.png"
+ln -s /dev/null "$tmp/null_dir"
+ln -s /dev/zero "$tmp/zero.json"
+ln -s /dev/zero "$tmp/zero.obj"
+truncate -s 100M "$tmp/huge_path.json"  # sparse: 100 MiB of zero bytes
+pj path_width_5 "{$keys, \"frames\": 10, \"width\": 5}"
+pj path_height_1 "{$keys, \"frames\": 10, \"height\": 1}"
+pj path_eye_huge '{"keys": [{"eye": [1e308, 1.7, 0], "look_at": [0, 1.7, -5]}], "frames": 10}'
+pj path_look_at_huge '{"keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, -1e308]}], "frames": 10}'
+pj path_up_huge "{$keys, \"frames\": 10, \"up\": [1e308, 1e308, 0]}"
+pj path_frames_intmax "{$keys, \"frames\": 2147483647}"
+pj path_near_subnormal "{$keys, \"frames\": 10, \"near\": 5e-324}"
+pj path_fov_tiny "{$keys, \"frames\": 10, \"fov_y_deg\": 1e-300}"
+pj path_far_over_near "{$keys, \"frames\": 10, \"near\": 0.00001, \"far\": 100000}"
+pj path_far_huge "{$keys, \"frames\": 10, \"far\": 1e300}"
+pj path_dup_frames "{$keys, \"frames\": 10, \"frames\": 20}"
+pj path_dup_eye '{"keys": [{"eye": [0, 1.7, 0], "eye": [9, 1.7, 0], "look_at": [0, 1.7, -5]}], "frames": 10}'
+pj path_small_64 '{"width": 64, "height": 64, "keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, -5]}, {"eye": [1, 1.7, -1], "look_at": [1, 1.7, -6]}], "frames": 3}'
+pj path_small_96 '{"width": 96, "height": 96, "keys": [{"eye": [0, 1.7, 0], "look_at": [0, 1.7, -5]}, {"eye": [1, 1.7, -1], "look_at": [1, 1.7, -6]}], "frames": 3}'
+pj path_small_64_moved '{"width": 64, "height": 64, "keys": [{"eye": [0.5, 1.7, 0], "look_at": [0.5, 1.7, -5]}, {"eye": [1.5, 1.7, -1], "look_at": [1.5, 1.7, -6]}], "frames": 3}'
+awk 'BEGIN { n = 200; s = ""; for (i = 0; i < n; i++) s = s "["; t = s; gsub(/\[/, "]", t);
+             printf "{\"keys\": %s%s, \"frames\": 3}", s, t }' >"$tmp/path_nested_keys.json"
+mkdir "$tmp/model"
+printf 'mtllib ../outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/model/mtl_up.obj"
+printf 'mtllib %s/outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "$tmp" >"$tmp/model/mtl_abs.obj"
+printf 'newmtl m\nKd 1 0 0\n' >"$tmp/outside.mtl"
+printf 'AC3Db\nMATERIAL "m" rgb 1 1 1  amb 0 0 0  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\nnumvert 50000000\n0 0 0\n' \
+  >"$tmp/huge_numvert.acc"
+printf 'AC3Db\nOBJECT world\nkids 1\nOBJECT poly\nnumvert 3\n0 0 0\n1 0 0\n0 1 0\nnumsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n' \
+  >"$tmp/no_material.acc"
+printf 'mtllib tex_abs.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_abs.obj"
+printf 'newmtl m\nKd 1 1 1\nmap_Kd %s/outside.png\n' "$tmp" >"$tmp/model/tex_abs.mtl"
+printf 'mtllib tex_up.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_up.obj"
+printf 'newmtl m\nKd 1 1 1\nmap_Kd ../outside.png\n' >"$tmp/model/tex_up.mtl"
+python3 - "$tmp" <<'EOF' || { echo "FAIL $id: python3 is needed to write the hostile fixtures"; exit 1; }
+import base64, json, os, socket, struct, sys, zlib
+t = sys.argv[1]
+def png(path, w, h, idat=None):
+    def chunk(kind, data):
+        return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data))
+    raw = b''.join(b'\0' + bytes((x * 7 + y * 3) % 256 for x in range(w * 3)) for y in range(h)) \
+        if idat is None else None
+    body = zlib.compress(raw) if idat is None else idat
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0))
+                           + chunk(b'IDAT', body) + chunk(b'IEND', b''))
+png(t + '/a.png', 32, 32)
+png(t + '/outside.png', 16, 16)
+png(t + '/b.png', 32, 32)
+png(t + '/tiny_a.png', 5, 5)
+png(t + '/tiny_b.png', 5, 5)
+# Header says 12000x12000; only the header is read before the size is refused.
+png(t + '/huge.png', 12000, 12000, idat=zlib.compress(b'\0' * 1000))
+s = socket.socket(socket.AF_UNIX)
+s.bind(t + '/sock.png')
+s.close()
+# One triangle; buffer given by the caller.
+def gltf(path, uri, offset=0):
+    tri = struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]}],
+           "bufferViews": [{"buffer": 0, "byteOffset": offset, "byteLength": 36}],
+           "buffers": [{"uri": uri, "byteLength": 36}]}
+    open(path, 'w').write(json.dumps(doc))
+    return tri
+tri = gltf(t + '/model/buf_up.gltf', '../outside.bin')
+open(t + '/outside.bin', 'wb').write(tri)
+gltf(t + '/model/buf_abs.gltf', t + '/outside.bin')
+gltf(t + '/model/buf_fifo.gltf', 'fifo.bin')
+gltf(t + '/wrap.gltf', 'data:application/octet-stream;base64,' + base64.b64encode(tri).decode(),
+     offset=2**64 - 4)
+os.mkfifo(t + '/model/fifo.bin')
+# 100 000 levels of nesting inside an otherwise valid glTF.
+n = 100000
+open(t + '/nested.gltf', 'w').write('{"asset": {"version": "2.0"}, "extras": ' + '[' * n + ']' * n + '}')
+# 22-byte .glb whose JSON chunk claims nearly 4 GiB.
+open(t + '/huge_chunk.glb', 'wb').write(b'glTF' + struct.pack('<III', 2, 22, 0xFFFFFFF0) + b'JSON' + b'{}')
+open(t + '/big_total.glb', 'wb').write(b'glTF' + struct.pack('<III', 2, 0x7FFFFFFF, 2) + b'JSON' + b'{}')
+EOF
+# Keyframe database surgery: hw64 (docs/keyframe-db.md) re-checksums what a
+# row changed, so the damage gets past the checksums and must be caught by
+# the checks behind them. Usage: python3 {tmp}/hwdb.py COMMAND DB [ARGS].
+cat >"$tmp/hwdb.py" <<'EOF'
+import json, struct, sys
+M = (1 << 64) - 1
+def hw64(b, seed=0x6877646232303236):
+    h = seed
+    for i in range(0, len(b), 8):
+        w = int.from_bytes(b[i:i + 8].ljust(8, b'\0'), 'little')
+        x = h ^ w
+        h = (((x << 31) | (x >> 33)) & M) * 0x9E3779B97F4A7C15 & M
+    h ^= len(b)
+    h ^= h >> 30; h = h * 0xBF58476D1CE4E5B9 & M
+    h ^= h >> 27; h = h * 0x94D049BB133111EB & M
+    h ^= h >> 31
+    return h
+def load(db): return json.load(open(db + '/index.json'))
+def save(db, ix):
+    ix.pop('index_checksum', None)
+    ix['index_checksum'] = '%016x' % hw64(json.dumps(ix, sort_keys=True, separators=(',', ':')).encode())
+    open(db + '/index.json', 'w').write(json.dumps(ix, indent=1))
+def reseal(path):  # payload and header checksums after an edit
+    b = bytearray(open(path, 'rb').read())
+    b[40:48] = struct.pack('<Q', hw64(bytes(b[64:])))
+    b[48:56] = struct.pack('<Q', hw64(bytes(b[:48])))
+    open(path, 'wb').write(bytes(b))
+    return len(b), hw64(bytes(b[64:]))
+def fix_entry(db, frame):
+    ix = load(db)
+    for e in ix['keyframes']:
+        if e['frame'] == frame:
+            b = open(db + '/' + e['file'], 'rb').read()
+            e['bytes'] = len(b); e['checksum'] = '%016x' % hw64(b[64:])
+    save(db, ix)
+cmd, db = sys.argv[1], sys.argv[2]
+ix = load(db) if cmd != "chunk-checksum" else None
+if cmd == 'drop-last':        # lose an entry, keep the old index checksum
+    ix['keyframes'].pop(); open(db + '/index.json', 'w').write(json.dumps(ix, indent=1))
+elif cmd == 'drop-last-reseal':
+    ix['keyframes'].pop(); save(db, ix)
+elif cmd == 'frame':          # set entry 0's frame number
+    ix['keyframes'][0]['frame'] = int(sys.argv[3]); save(db, ix)
+elif cmd == 'no-checksum':
+    ix.pop('index_checksum'); open(db + '/index.json', 'w').write(json.dumps(ix, indent=1))
+elif cmd == 'extra':          # another walk's keyframe listed under a new frame
+    e = dict(ix['keyframes'][0]); e['frame'] = int(sys.argv[3]); ix['keyframes'].append(e); save(db, ix)
+elif cmd == 'fix':            # after a keyframe file was replaced
+    fix_entry(db, int(sys.argv[3]))
+elif cmd == 'nan-quad':       # first quad's first world corner x := NaN, file re-sealed
+    e = ix['keyframes'][0]; path = db + '/' + e['file']
+    b = bytearray(open(path, 'rb').read())
+    w, h = struct.unpack('<ii', b[20:28])
+    at = 64 + 132 + 16 + w * h * 17 + 56 + 16
+    b[at:at + 8] = struct.pack('<d', float('nan'))
+    open(path, 'wb').write(bytes(b)); reseal(path); fix_entry(db, e['frame'])
+elif cmd == 'chunk-checksum':  # a chunk result's checksum made non-hex
+    import glob
+    f = sorted(glob.glob(db + '/.chunks/*.json'))
+    f = [x for x in f if 'plan' not in x][0]
+    r = json.load(open(f)); r['entries'][0]['checksum'] = 'zz' * 8; json.dump(r, open(f, 'w'))
+EOF
 
 case $setup in
   -) ;;

@@ -216,6 +216,7 @@ TEST_F(KeyframeDbDir, OpenReadAndMatch) {
   // names it too.
   nlohmann::json ix = nlohmann::json::parse(*readFile(dir_ + "/index.json"));
   ix["baked_from"]["mesh"] = meshOptionsJson(grad);
+  ix["index_checksum"] = indexChecksum(ix);
   ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", ix.dump(1)).ok());
   auto dbGrad = KeyframeDb::open(dir_);
   ASSERT_TRUE(dbGrad.ok()) << dbGrad.error().message;
@@ -296,4 +297,97 @@ TEST_F(KeyframeDbDir, IndexErrors) {
 }
 
 }  // namespace
+TEST_F(KeyframeDbDir, IndexChecksumCatchesConsistentEdits) {
+  auto text = *readFile(dir_ + "/index.json");
+  auto ix = nlohmann::json::parse(text);
+  EXPECT_EQ(ix["index_checksum"], indexChecksum(ix));
+  // An entry dropped: the old checksum no longer matches.
+  auto dropped = ix;
+  dropped["keyframes"].erase(1);
+  ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", dropped.dump(1)).ok());
+  auto db = KeyframeDb::open(dir_);
+  ASSERT_FALSE(db.ok());
+  EXPECT_NE(db.error().message.find("index_checksum"), std::string::npos) << db.error().message;
+  // Re-sealed: opens, but the schedule check names the missing frame.
+  dropped["index_checksum"] = indexChecksum(dropped);
+  ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", dropped.dump(1)).ok());
+  db = KeyframeDb::open(dir_);
+  ASSERT_TRUE(db.ok()) << db.error().message;
+  const Status s = db->checkSchedule({0, 10});
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("no keyframe for frame 10"), std::string::npos)
+      << s.error().message;
+  EXPECT_TRUE(db->checkSchedule({0}).ok());
+  // Without the checksum at all.
+  ix.erase("index_checksum");
+  ASSERT_TRUE(writeFileAtomic(dir_ + "/index.json", ix.dump(1)).ok());
+  EXPECT_FALSE(KeyframeDb::open(dir_).ok());
+}
+
+TEST(KeyframeDbEntries, FrameRangeChecksumAndNamesAreChecked) {
+  auto entry = [](nlohmann::json frame, std::string checksum, std::string file) {
+    return nlohmann::json::array({{{"frame", frame},
+                                   {"file", file},
+                                   {"bytes", 100},
+                                   {"checksum", checksum}}});
+  };
+  EXPECT_TRUE(parseKeyframeEntries(entry(5, "00000000000000ff", "kf.hwkf"), "i").ok());
+  auto wrap = parseKeyframeEntries(entry(4294967301ull, "00000000000000ff", "kf"), "i");
+  ASSERT_FALSE(wrap.ok());
+  EXPECT_NE(wrap.error().message.find("4294967301"), std::string::npos) << wrap.error().message;
+  EXPECT_FALSE(parseKeyframeEntries(entry(-1, "00000000000000ff", "kf"), "i").ok());
+  auto hex = parseKeyframeEntries(entry(5, "zzzzzzzzzzzzzzzz", "kf"), "i");
+  ASSERT_FALSE(hex.ok());
+  EXPECT_NE(hex.error().message.find("16 hex digits"), std::string::npos);
+  EXPECT_FALSE(parseKeyframeEntries(entry(5, "-0000000000000ff", "kf"), "i").ok());
+  EXPECT_FALSE(parseKeyframeEntries(entry(5, "00000000000000ff", "../kf"), "i").ok());
+  EXPECT_FALSE(parseKeyframeEntries(nlohmann::json::object(), "i").ok());
+}
+
+TEST(KeyframeDbDecode, NonFiniteOrOutsideQuadCornersAreErrors) {
+  CachedKeyframe c = sample(6, 5, 3, 42u);
+  CachedKeyframe out;
+  ASSERT_TRUE(decodeKeyframe(encodeKeyframe(7, c.keyframe, c.mesh, c.render), "f", out).ok());
+  auto bad = [&](auto edit, const char* want) {
+    CachedKeyframe d = c;
+    edit(d);
+    const Status s = decodeKeyframe(encodeKeyframe(7, d.keyframe, d.mesh, d.render), "f", out);
+    ASSERT_FALSE(s.ok()) << want;
+    EXPECT_NE(s.error().message.find(want), std::string::npos) << s.error().message;
+  };
+  const double nan = std::nan("");
+  bad([&](CachedKeyframe& d) { d.mesh.quads[1].world[2].y = nan; }, "quad 1: corner 2");
+  bad([&](CachedKeyframe& d) { d.mesh.quads[0].pixel[0].x = 1e6; }, "outside the image");
+  bad([&](CachedKeyframe& d) { d.mesh.quads[2].eyeZ[3] = -1; }, "eye depth");
+  bad([&](CachedKeyframe& d) { d.keyframe.camera.eye.x = nan; }, "not a valid camera");
+}
+
+TEST(KeyframeDbDecode, ExpectationNamesSizePoseAndDepthMode) {
+  CachedKeyframe c = sample(6, 5, 3, 43u);
+  c.frame = 3;
+  KeyframeExpectation want{[&](int) { return c.keyframe.camera; }, c.keyframe.depthMode};
+  EXPECT_TRUE(checkKeyframeExpectation(c, want, "f").ok());
+  auto fails = [&](KeyframeExpectation w, const char* what) {
+    const Status s = checkKeyframeExpectation(c, w, "f");
+    ASSERT_FALSE(s.ok()) << what;
+    EXPECT_NE(s.error().message.find(what), std::string::npos) << s.error().message;
+  };
+  KeyframeExpectation w = want;
+  w.cameraAt = [&](int) {
+    Camera m = c.keyframe.camera;
+    m.width = 7;
+    return m;
+  };
+  fails(w, "size 6x5");
+  w.cameraAt = [&](int) {
+    Camera m = c.keyframe.camera;
+    m.eye.x += 0.5;
+    return m;
+  };
+  fails(w, "has eye");
+  w = want;
+  w.depthMode = DepthMode::Fixed24;
+  fails(w, "depth mode");
+}
+
 }  // namespace hw::keyframe

@@ -211,6 +211,21 @@ TEST(CameraPath, RejectsMalformedInputNamingTheKey) {
       {"keys not array", R"({"keys": {"eye": [0,0,0]}, "frames": 2})", "keys"},
       {"up zero", withKeys(R"(, "up": [0, 0, 0])"), "up"},
       {"number overflows to inf", withKeys(R"(, "far": 1e400)"), "1e400"},
+      // Parsable but past what the renderer and the metrics can handle.
+      {"width below SSIM's window", withKeys(R"(, "width": 10)"), "at least 11"},
+      {"height 1", withKeys(R"(, "height": 1)"), "height"},
+      {"eye at 1e308", R"({"keys": [{"eye": [1e308,0,0], "look_at": [0,0,-1]}], "frames": 2})",
+       "keys[0].eye[0]"},
+      {"look_at at -1e308", R"({"keys": [{"eye": [0,0,0], "look_at": [0,0,-1e308]}], "frames": 2})",
+       "keys[0].look_at[2]"},
+      {"up overflows", withKeys(R"(, "up": [1e308, 1e308, 0])"), "up[0]"},
+      {"frames INT_MAX", R"({"keys": [{"eye": [0,0,0], "look_at": [0,0,-1]}], "frames": 2147483647})",
+       "at most 1000000"},
+      {"near subnormal", withKeys(R"(, "near": 5e-324)"), "blank"},
+      {"fov 1e-300", withKeys(R"(, "fov_y_deg": 1e-300)"), "fov_y_deg"},
+      {"far / near 1e10", withKeys(R"(, "near": 0.00001, "far": 100000)"), "far / near"},
+      {"duplicate key", withKeys(R"(, "near": 1, "near": 2)"), "near: duplicate key"},
+      {"nested 100 deep", std::string(100, '[') + std::string(100, ']'), "nested deeper"},
   };
   for (const BadCase& c : cases) {
     auto p = parseCameraPath(c.json, "bad.json");
@@ -258,6 +273,18 @@ TEST(CameraPath, CamerasEqualsCameraAtForEveryFrame) {
   const std::vector<Camera> s3 = still.cameras();
   ASSERT_EQ(s3.size(), 3u);
   EXPECT_EQ(s3[2].eye, still.cameraAt(2).eye);
+}
+
+TEST(CameraPath, LimitsAdmitTheirEdgesAndGiveFiniteCameras) {
+  const std::string edge = R"({"width": 11, "height": 11, "fov_y_deg": 0.001, "near": 0.000001,
+      "far": 100, "keys": [{"eye": [1e9, 0, 0], "look_at": [-1e9, 0, -1]},
+                           {"eye": [-1e9, 0, 0], "look_at": [1e9, 0, -1]}], "frames": 5})";
+  auto p = parseCameraPath(edge, "edge.json");
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  for (const Camera& c : p->cameras()) {
+    EXPECT_TRUE(std::isfinite(c.eye.x) && std::isfinite(c.forward.x) && std::isfinite(c.up.y));
+    EXPECT_TRUE(std::isfinite(c.fy()));
+  }
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 
 #include "core/file_io.h"
 #include "scenes/fetch.h"
+#include "scenes/outdoor_scenes.h"
 #include "scenes/q3bsp.h"
 
 namespace hw::scenes {
@@ -358,8 +359,65 @@ TEST_F(Q3BspTest, TexturesResolvedAsTheGameDoes) {
   EXPECT_TRUE(ms.alphaTest);
   EXPECT_FALSE(mw.twoSided);
   EXPECT_EQ(map->stats.missingTextures, 1u);
-  ASSERT_EQ(s.warnings.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 2u);
   EXPECT_NE(s.warnings[0].find("textures/test/missing"), std::string::npos) << s.warnings[0];
+  // What the scripted shader does that is not drawn: its lightmap stage.
+  EXPECT_NE(s.warnings[1].find("shader features not drawn"), std::string::npos) << s.warnings[1];
+  EXPECT_NE(s.warnings[1].find("lightmaps (1)"), std::string::npos) << s.warnings[1];
+}
+
+// A stage's tcMod scale multiplies the texture coordinates; a sky face is
+// drawn (unlit, flagged sky, left out of ray queries) when its shader has an
+// image, and skipped as before when not.
+TEST_F(Q3BspTest, TcModScaleAndSkyFaces) {
+  TestBsp b;
+  auto plain = parseQ3Bsp(b.bytes(), "t.bsp", [](const std::string&) {
+    Q3Texture t;
+    t.image = Image<Rgba8>(2, 2);
+    return t;
+  });
+  auto scaled = parseQ3Bsp(b.bytes(), "t.bsp", [](const std::string&) {
+    Q3Texture t;
+    t.image = Image<Rgba8>(2, 2);
+    t.uvScale = glm::vec2(2.0f, 0.5f);
+    return t;
+  });
+  ASSERT_TRUE(plain.ok() && scaled.ok());
+  const Mesh& mp = plain->scene.meshes[0];
+  const Mesh& ms = scaled->scene.meshes[0];
+  ASSERT_EQ(mp.vertices.size(), ms.vertices.size());
+  bool nonzero = false;
+  for (std::size_t k = 0; k < mp.vertices.size(); ++k) {
+    EXPECT_FLOAT_EQ(ms.vertices[k].uv.x, 2.0f * mp.vertices[k].uv.x);
+    EXPECT_FLOAT_EQ(ms.vertices[k].uv.y, 0.5f * mp.vertices[k].uv.y);
+    nonzero = nonzero || mp.vertices[k].uv != glm::vec2(0.0f);
+  }
+  EXPECT_TRUE(nonzero);
+
+  TestBsp sky;
+  sky.shaders.push_back({"textures/skies/blue", 0x4, 0});
+  sky.faces[1].shader = 1;
+  auto drawn = parseQ3Bsp(sky.bytes(), "s.bsp", [](const std::string&) {
+    Q3Texture t;
+    t.image = Image<Rgba8>(2, 2);
+    return t;
+  });
+  ASSERT_TRUE(drawn.ok()) << drawn.error().message;
+  EXPECT_EQ(drawn->stats.skyFaces, 1u);
+  EXPECT_EQ(drawn->stats.skippedFaces, 0u);
+  std::size_t skyMaterials = 0;
+  for (const Material& m : drawn->scene.materials)
+    if (m.sky) {
+      ++skyMaterials;
+      EXPECT_TRUE(m.unlit);
+    }
+  EXPECT_EQ(skyMaterials, 1u);
+  const TriangleGrid grid(drawn->scene);
+  EXPECT_EQ(grid.triangleCount(), 2u);  // the sky patch is not a surface
+  auto skipped = parseQ3Bsp(sky.bytes(), "s.bsp", nullptr);
+  ASSERT_TRUE(skipped.ok());
+  EXPECT_EQ(skipped->stats.skyFaces, 0u);
+  EXPECT_EQ(skipped->stats.skippedFaces, 1u);
 }
 
 TEST_F(Q3BspTest, ListsMapsAndReadsSpawnsOnly) {
@@ -398,7 +456,11 @@ TEST_F(Q3BspTest, SpawnWalkFollowsLinesOfSight) {
   ASSERT_EQ(p.keys.size(), 2u);
   EXPECT_NEAR(glm::length(p.keys[0].eye - open->spawns[0].eye), 0.0, 1e-9);
   EXPECT_NEAR(glm::length(p.keys[1].eye - open->spawns[1].eye), 0.0, 1e-9);
-  EXPECT_NEAR(p.keys[0].lookAt.y, p.keys[0].eye.y, 1e-9);  // level gaze
+  // Along the way, looking down at most 15° (this map is a bare floor:
+  // looking level would see mostly void).
+  const glm::dvec3 gaze = glm::normalize(p.keys[0].lookAt - p.keys[0].eye);
+  EXPECT_LE(gaze.y, 1e-9);
+  EXPECT_GE(gaze.y, -std::sin(15.0 * 3.14159265358979 / 180.0) - 1e-9);
   EXPECT_EQ(p.frames, 120);
   EXPECT_EQ(p.keyframeEvery, 10);
   EXPECT_DOUBLE_EQ(p.nearPlane, 0.05);
@@ -544,6 +606,9 @@ TEST_F(Q3BspTest, BadHeaderLumpsAndFaces) {
     TestBsp b;
     b.entities = "{ \"classname\" \"info_player_start\" \"origin\" \"1 2\" }";
     expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "entities", "origin"});
+    // Finite but far past any map: a NaN camera path (and a CHECK) before.
+    b.entities = "{ \"classname\" \"info_player_start\" \"origin\" \"1e300 0 0\" }";
+    expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "origin", "1e7"});
     b.entities = "{ \"classname\" \"worldspawn\" ";
     expectError(parseQ3Bsp(b.bytes(), "t.bsp", nullptr, {}), {"t.bsp", "entities", "not closed"});
     b.entities = "{ \"classname\" \"worldspawn }";

@@ -1,0 +1,4 @@
+broken
+{
+  {
+ map x.tga
