@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/check.h"
+#include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/safe_io.h"
 #include "core/timer.h"
