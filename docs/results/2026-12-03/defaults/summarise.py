@@ -101,6 +101,21 @@ def main():
                      f"{f(b['in_between_ms_median'], 1)} | {rb:.2f} | {f(r['in_between_ms_median'], 1)} | {rr:.2f} | "
                      f"{f(r['frame_ms_median'], 1)} / {f(r['frame_ms_p95'], 1)} | {verdict} |")
     open(os.path.join(HERE, "aggregate.md"), "w").write("\n".join(a) + "\n")
+    # --- the recommendation against the paper, per scene
+    rc = ["| scene | paper PSNR (dB) | recommended PSNR (dB) | ΔdB | PSNR p5 paper → rec. | in-between ms paper → rec. | time ÷ paper | (ib÷ref) ÷ paper's | quads paper → rec. | best ΔdB elsewhere in the grid |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for s in scenes:
+        b = cells.get((s, "paper")); r = cells.get((s, REC))
+        if not (b and r):
+            continue
+        best = max((cells[(s, c)]["psnr_median"], c) for c in configs if (s, c) in cells)
+        nr = (r["in_between_ms_median"] / r["reference_ms_median"]) / (b["in_between_ms_median"] / b["reference_ms_median"])
+        rc.append(f"| {s} | {f(b['psnr_median'])} | {f(r['psnr_median'])} | {r['psnr_median'] - b['psnr_median']:+.2f} | "
+                  f"{f(b['psnr_p5'])} → {f(r['psnr_p5'])} | {f(b['in_between_ms_median'], 1)} → {f(r['in_between_ms_median'], 1)} | "
+                  f"{r['in_between_ms_median'] / b['in_between_ms_median']:.2f} | {nr:.2f} | "
+                  f"{int(b['quads_median'])} → {int(r['quads_median'])} | {best[0] - b['psnr_median']:+.2f} ({best[1]}) |")
+    open(os.path.join(HERE, "recommended.md"), "w").write("\n".join(rc) + "\n")
+
     sys.stdout.write("\n".join(a) + "\n")
     # --- plot
     try:
