@@ -101,7 +101,10 @@ Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits)
 
 namespace {
 int gMaxTextureSize = 8192;
+int gMinDecodeBudgetSide = 8192;
 }  // namespace
+
+void setTextureDecodeBudgetSide(int px) { gMinDecodeBudgetSide = std::max(1, px); }
 
 void setMaxTextureSize(int px) { gMaxTextureSize = std::max(1, px); }
 int maxTextureSize() { return gMaxTextureSize; }
@@ -114,7 +117,8 @@ Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const st
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp))
     return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
-  const std::uint64_t budgetSide = static_cast<std::uint64_t>(std::max(8192, gMaxTextureSize));
+  const std::uint64_t budgetSide =
+      static_cast<std::uint64_t>(std::max(gMinDecodeBudgetSide, gMaxTextureSize));
   const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
   if (w < 1 || h < 1 || pixels > budgetSide * budgetSide)
     return makeError(what + ": texture is " + std::to_string(w) + "x" + std::to_string(h) + " (" +

@@ -34,6 +34,8 @@ struct ImageLimits {
 // anything is allocated; the decoded pixels are held once.
 void setMaxTextureSize(int px);
 int maxTextureSize();
+// The 8192 of the decode budget above (tests and the fuzz target lower it).
+void setTextureDecodeBudgetSide(int px);
 Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const std::string& what,
                                    std::string* warning);
 // readFile + decodeTexture.

@@ -88,15 +88,35 @@ def main():
         a.append(f"| {c} | {len(g['ddb'])} | {statistics.mean(g['ddb']):+.2f} | {min(g['ddb']):+.2f} | {max(g['ddb']):+.2f} | {gm:.2f} | "
                  f"{max(g['ratio']):.2f} | {gn:.2f} | {gq:.2f} | {g['front']}/{g['scenes']} |")
     # --- in-between vs geometry frame
-    a += ["", "| scene | triangles | reference (geometry) ms | paper in-between ms | paper frame ms | in-between ÷ geometry |",
-          "|---|---|---|---|---|---|"]
+    REC = os.environ.get("HW_RECOMMENDED", "rl+m px0.125")
+    a += ["", f"| scene | triangles | geometry frame ms (reference) | paper: in-between ms | paper: in-between ÷ geometry | {REC}: in-between ms | {REC}: in-between ÷ geometry | {REC}: frame ms median / p95 | in-between cheaper than geometry? |",
+          "|---|---|---|---|---|---|---|---|---|"]
     for s in scenes:
-        b = cells.get((s, "paper"))
-        if b:
-            a.append(f"| {s} | {b['triangles']} | {f(b['reference_ms_median'], 1)} | {f(b['in_between_ms_median'], 1)} | "
-                     f"{f(b['frame_ms_median'], 1)} | {b['in_between_ms_median'] / b['reference_ms_median']:.2f} |")
+        b = cells.get((s, "paper")); r = cells.get((s, REC))
+        if b and r:
+            rb = b["in_between_ms_median"] / b["reference_ms_median"]
+            rr = r["in_between_ms_median"] / r["reference_ms_median"]
+            verdict = "yes" if rr < 0.8 else ("no" if rr > 1.2 else "about even")
+            a.append(f"| {s} | {b['triangles']} | {f(b['reference_ms_median'], 1)} (rec. run {f(r['reference_ms_median'], 1)}) | "
+                     f"{f(b['in_between_ms_median'], 1)} | {rb:.2f} | {f(r['in_between_ms_median'], 1)} | {rr:.2f} | "
+                     f"{f(r['frame_ms_median'], 1)} / {f(r['frame_ms_p95'], 1)} | {verdict} |")
     open(os.path.join(HERE, "aggregate.md"), "w").write("\n".join(a) + "\n")
-    print("\n".join(a))
+    # --- the recommendation against the paper, per scene
+    rc = ["| scene | paper PSNR (dB) | recommended PSNR (dB) | ΔdB | PSNR p5 paper → rec. | in-between ms paper → rec. | time ÷ paper | (ib÷ref) ÷ paper's | quads paper → rec. | best ΔdB elsewhere in the grid |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for s in scenes:
+        b = cells.get((s, "paper")); r = cells.get((s, REC))
+        if not (b and r):
+            continue
+        best = max((cells[(s, c)]["psnr_median"], c) for c in configs if (s, c) in cells)
+        nr = (r["in_between_ms_median"] / r["reference_ms_median"]) / (b["in_between_ms_median"] / b["reference_ms_median"])
+        rc.append(f"| {s} | {f(b['psnr_median'])} | {f(r['psnr_median'])} | {r['psnr_median'] - b['psnr_median']:+.2f} | "
+                  f"{f(b['psnr_p5'])} → {f(r['psnr_p5'])} | {f(b['in_between_ms_median'], 1)} → {f(r['in_between_ms_median'], 1)} | "
+                  f"{r['in_between_ms_median'] / b['in_between_ms_median']:.2f} | {nr:.2f} | "
+                  f"{int(b['quads_median'])} → {int(r['quads_median'])} | {best[0] - b['psnr_median']:+.2f} ({best[1]}) |")
+    open(os.path.join(HERE, "recommended.md"), "w").write("\n".join(rc) + "\n")
+
+    sys.stdout.write("\n".join(a) + "\n")
     # --- plot
     try:
         import matplotlib
@@ -115,9 +135,11 @@ def main():
             if not r or r["psnr_median"] is None:
                 continue
             x, y = r["in_between_ms_median"], r["psnr_median"]
-            ax.scatter([x], [y], color=colour[c], s=36, marker="*" if c == "paper" else "o",
-                       edgecolor="k", linewidth=0.4, zorder=3)
-            ax.annotate(c, (x, y), fontsize=6, xytext=(3, 2), textcoords="offset points")
+            k = configs.index(c)
+            ax.scatter([x], [y], color=colour[c], s=70 if c == "paper" else 34,
+                       marker="*" if c == "paper" else "osD^v<>ph8"[k % 10],
+                       edgecolor="k", linewidth=0.4, zorder=3, label=f"{k}: {c}" if i == 0 else None)
+            ax.annotate(str(k), (x, y), fontsize=6, xytext=(3, 2), textcoords="offset points")
         ax.set_title(f"{s} ({cells[(s, configs[0])]['triangles'] if (s, configs[0]) in cells else ''} tris)", fontsize=9)
         ax.set_xlabel("in-between ms (median)", fontsize=8); ax.set_ylabel("PSNR median (dB)", fontsize=8)
         lo, hi = ax.get_ylim()
@@ -127,6 +149,8 @@ def main():
         ax.tick_params(labelsize=7); ax.grid(alpha=0.3)
     for j in range(n, rows * cols):
         axs.flat[j].axis("off")
+    h, l = axs.flat[0].get_legend_handles_labels()
+    axs.flat[rows * cols - 1].legend(h, l, loc="center", fontsize=9, title="configuration (number = label)")
     fig.suptitle("PSNR vs in-between ms per scene (512², LP_NUM_THREADS=2; ★ = paper preset)", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(os.path.join(HERE, "pareto.png"), dpi=90)
