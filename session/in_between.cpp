@@ -43,7 +43,6 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
     warp::PairStats ps;
     HW_TRY(warper.warpPair(foreground, background, cam, layerA_, opt_.skipBackground, &ps));
     st.backgroundDrawn = ps.backgroundDrawn;
-    st.backgroundSkipped = !ps.backgroundDrawn;
     st.foregroundUncovered = ps.uncoveredByForeground;
     Stopwatch sc;
     if (ps.uncovered == 0 && opt_.skipPrevious) {
@@ -71,8 +70,7 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
   } else {
     warp::WarpStats wa, wb;
     HW_TRY(warper.warp(foreground, cam, layerA_, &wa));
-    st.backgroundSkipped = background == nullptr || (opt_.skipBackground && wa.uncovered == 0);
-    st.backgroundDrawn = !st.backgroundSkipped;
+    st.backgroundDrawn = background != nullptr && !(opt_.skipBackground && wa.uncovered == 0);
     st.foregroundUncovered = wa.uncovered;
     if (st.backgroundDrawn) HW_TRY(warper.warp(*background, cam, layerB_, &wb));
     Stopwatch sc;

@@ -46,9 +46,8 @@ struct InBetweenOptions {
 // What one in-between frame did and cost (ms).
 struct InBetweenStats {
   bool fused = false;
-  bool backgroundSkipped = false;
   bool previousSkipped = false;
-  bool backgroundDrawn = false;
+  bool backgroundDrawn = false;  // false: skipped (covered, or no background given)
   int foregroundUncovered = 0;  // pixels the foreground layer left empty
   int backgroundCulled = 0;     // fused: background quads left out (WarpOptions::cullBackground)
   int quadsForeground = 0, quadsBackground = 0;
@@ -58,6 +57,7 @@ struct InBetweenStats {
   double cullMs = 0;  // fused, first frame of a pair: deciding the culled quads
   double composeMs = 0;
   double nearMs = -1, nearDrawMs = 0;  // -1: no near geometry this frame
+  bool backgroundSkipped() const { return !backgroundDrawn; }
   int quads() const { return quadsForeground + quadsBackground; }
   double warpMs() const { return fused ? warpAMs + warpBMs + readbackMs : warpAMs + warpBMs; }
 };

@@ -544,13 +544,13 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
     s.stalePixels.push_back(as.stale);
     s.maxAges.push_back(as.maxAge);
   }
-  recorder_.counts.backgroundSkips += st.backgroundSkipped;
+  recorder_.counts.backgroundSkips += st.backgroundSkipped();
   recorder_.counts.previousSkips += st.previousSkipped;
   fj["is_keyframe"] = false;
   fj["keyframes"] = {k0, k1};
   fj["foreground"] = fgFrame;
   fj["quads"] = st.quads();
-  fj["skipped"] = {{"background", st.backgroundSkipped}, {"previous_frame", st.previousSkipped}};
+  fj["skipped"] = {{"background", st.backgroundSkipped()}, {"previous_frame", st.previousSkipped}};
   fj["foreground_uncovered_pixels"] = st.foregroundUncovered;
   s.foregroundUncovered.push_back(st.foregroundUncovered);
   endFrameWork(ms, false);
@@ -564,7 +564,7 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   s.holesAfter.push_back(frame_.holeFractionAfter);
   s.inBetweenMs.push_back(totalMs);
   s.composeMs.push_back(st.composeMs);
-  recordQuality(i, fj, st.fused, st.backgroundSkipped);
+  recordQuality(i, fj, st.fused, st.backgroundSkipped());
   return {};
 }
 
@@ -693,7 +693,6 @@ Result<WalkResult> WalkLoop::run() {
   HW_TRY(recorder_.open());
   debugErrors0_ = gl::debugCallbackErrors();
   chooseStripFrames();
-  recorder_.frameTimes.reserve(static_cast<std::size_t>(frames_));
   Progress progress(opt_.progress, frames_, "walk");
   for (int i = 0; i < frames_; ++i) {
     if (!walked_.empty() && !walked_[static_cast<std::size_t>(i)]) continue;

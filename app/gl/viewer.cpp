@@ -1250,10 +1250,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
   // A keyframe rendered at this very camera is the frame itself.
   if (fg.kf.camera.eye == cam_.eye && fg.kf.camera.forward == cam_.forward &&
       fg.kf.camera.width == width_ && fg.kf.camera.height == height_) {
-    frame_.colour = fg.kf.colour;
-    frame_.holesBefore.fill(0);
-    frame_.valid.fill(1);
-    frame_.holeFractionBefore = frame_.holeFractionAfter = 0;
+    session::showKeyframe(fg.kf.colour, frame_);
     st.direct = true;
     st.layers = 0;
     st.quadsA = fg.mesh.stats.quads;
@@ -1271,7 +1268,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
   st.quadsA = is.quadsForeground;
   st.quadsB = is.quadsBackground;
   st.layers = b >= 0 ? 2 : 1;
-  st.backgroundSkipped = b >= 0 && is.backgroundSkipped;
+  st.backgroundSkipped = b >= 0 && is.backgroundSkipped();
   st.composeMs = is.composeMs;
   st.holesBefore = frame_.holeFractionBefore;
   st.holesAfter = frame_.holeFractionAfter;
