@@ -12,6 +12,7 @@
 
 #include "app/viewer.h"
 #include "session/bake.h"
+#include "session/presets.h"
 #include "bench/bench_suite.h"
 #include "session/export.h"
 #include "core/json_util.h"
@@ -124,11 +125,15 @@ struct BakeCli {
   CLI::App* bakeCmd = nullptr;
   Common bakeC;
   std::string bakeOut;
+  // The walk's presets: the same defaults, so that `walk --keyframes DB`
+  // with the same preset and options finds the database's LOD settings.
+  const keyframe::LodOptions defaults = session::presetOptions(session::Preset::Default).lod;
+  std::string preset = session::presetName(session::Preset::Default);
   std::string bakeTau = "2^11";
-  std::string bakeCriterion = "five-point";
-  std::string bakePlanarity = "stencil";
-  double bakeTauPx = 0;
-  bool bakeMerge = false;
+  std::string bakeCriterion = keyframe::deltaCriterionName(defaults.criterion);
+  std::string bakePlanarity = keyframe::planarityName(defaults.planarity);
+  double bakeTauPx = defaults.tauParallaxPx;
+  bool bakeMerge = defaults.mergeStrips;
   bool bakeQuiet = false;
   int bakePerTask = 8;
   DistributeCli bakeDist;
@@ -136,13 +141,24 @@ struct BakeCli {
 };
 
 int run(BakeCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
-    keyframe::LodOptions lo;
-    if (!parseTau(o.bakeTau, &lo.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.bakeTau + "'");
-    lo.tauParallaxPx = o.bakeTauPx;
-    keyframe::parseDeltaCriterion(o.bakeCriterion.c_str(), &lo.criterion);
-    keyframe::parsePlanarity(o.bakePlanarity.c_str(), &lo.planarity);
-    lo.mergeStrips = o.bakeMerge;
+    session::Preset preset = session::Preset::Default;
+    session::parsePreset(o.preset, &preset);  // checked by the option's validator
+    session::WalkOptions wo = session::presetOptions(preset);
+    keyframe::LodOptions& lo = wo.lod;
+    auto given = [&](const char* name) { return o.bakeCmd->count(name) > 0; };
+    if (given("--tau")) {
+      if (!parseTau(o.bakeTau, &lo.tau))
+        return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.bakeTau + "'");
+      lo.tauParallaxPx = 0;
+    }
+    if (given("--tau-px")) lo.tauParallaxPx = o.bakeTauPx;
+    if (given("--criterion")) keyframe::parseDeltaCriterion(o.bakeCriterion.c_str(), &lo.criterion);
+    if (given("--planarity")) keyframe::parsePlanarity(o.bakePlanarity.c_str(), &lo.planarity);
+    if (given("--merge-strips") || given("--no-merge-strips")) lo.mergeStrips = o.bakeMerge;
+    if (preset == session::Preset::Paper && given("--preset"))
+      if (const auto c = session::differenceFromPaper(wo); !c.option.empty())
+        return failUsage(c.option + ": contradicts --preset paper (the paper's: " + c.paperValue +
+                         "); drop one of them");
     if (std::string err; !parseTauGradient(o.bakeTauGradS, &lo.tauGradient, &err)) return fail(err);
     return runBake(o.bakeC, lo, o.bakeOut, o.bakePerTask, o.bakeQuiet, o.bakeDist, argc, argv);
 }
@@ -159,17 +175,23 @@ void addBakeCommand(CLI::App& app, Commands& commands) {
               "'walk --keyframes DB'; --slurm runs it as a Slurm job array");
   addCommon(bakeCmd, o.bakeC);
   bakeCmd->add_option("--out", o.bakeOut, "Database directory (created)")->required();
-  bakeCmd->add_option("--tau", o.bakeTau, "LOD threshold in z' units, as for walk")->capture_default_str();
+  bakeCmd->add_option("--preset", o.preset, "LOD settings to start from, as for walk: default or paper")
+      ->check(CLI::IsMember({"default", "paper"}))
+      ->capture_default_str();
+  bakeCmd->add_option("--tau", o.bakeTau, "LOD threshold in z' units, as for walk; replaces --tau-px");
   bakeCmd->add_option("--tau-px", o.bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
       ->check(CLI::NonNegativeNumber)
-      ->excludes("--tau");
+      ->excludes("--tau")
+      ->capture_default_str();
   bakeCmd->add_option("--criterion", o.bakeCriterion, "five-point or per-axis-max, as for walk")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
   bakeCmd->add_option("--planarity", o.bakePlanarity, "stencil or region-local, as for walk")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
-  bakeCmd->add_flag("--merge-strips", o.bakeMerge, "Merge adjacent coplanar leaves, as for walk");
+  bakeCmd->add_flag("--merge-strips,!--no-merge-strips", o.bakeMerge,
+                    "Merge adjacent coplanar leaves, or not, as for walk")
+      ->capture_default_str();
   bakeCmd->add_option("--tau-gradient", o.bakeTauGradS, tauGradientHelp() + "; as for walk")
       ->capture_default_str();
   bakeCmd->add_option("--keyframes-per-task", o.bakePerTask,

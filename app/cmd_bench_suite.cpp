@@ -67,6 +67,8 @@ int run(BenchCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
       bo.traceTriangles = 100000;
       bo.skips.frames = 11;
       bo.skips.scenes = {{"indoor", ""}};
+      bo.sceneTable.cases = {{"indoor:100k", ""}, {"outdoor:100k", ""}};
+      bo.sceneTable.frames = 41;
     }
     bo.parts = o.benchOnly;
     if (!o.benchSizes.empty()) {
@@ -121,9 +123,11 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                        "(skips = the table: each skip on and off, and --subdivide none, "
                        "uniform, adaptive with PSNR also over the pixels of leaves larger than a "
                        "cell, on indoor, outdoor, q3:oa_dm5 and torcs:forza; real scenes need "
-                       "'scenes fetch --outdoor')")
+                       "'scenes fetch --outdoor'), scenes (per scene: the defaults against "
+                       "--preset paper: share of frames per mode, frame/geometry ms, PSNR; "
+                       "scenes.md, scenes.csv)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips"}));
+      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips", "scenes"}));
 
   commands.push_back({benchCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }

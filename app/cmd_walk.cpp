@@ -134,6 +134,14 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
     if (const auto c = session::differenceFromPaper(wo); !c.option.empty())
       return failUsage(c.option + ": contradicts --preset paper (the paper's: " + c.paperValue +
                        "); drop one of them");
+  // An adaptive schedule plans keyframes for frames that are all warped.
+  if (o.schedule == "adaptive") {
+    if (given("--mode") && wo.mode != session::FrameMode::Hybrid)
+      return failUsage("--mode " + o.mode +
+                       ": --schedule adaptive plans keyframes for warped frames; expected "
+                       "--mode hybrid (or no --mode)");
+    wo.mode = session::FrameMode::Hybrid;
+  }
   return 0;
 }
 

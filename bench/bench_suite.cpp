@@ -55,9 +55,9 @@ void say(bool on, const char* fmtStr, const std::string& a) {
 
 Result<json> runBenchSuite(const BenchOptions& opt) {
   for (const std::string& p : opt.parts)
-    if (p != "complexity" && p != "trace" && p != "spacing" && p != "skips")
+    if (p != "complexity" && p != "trace" && p != "spacing" && p != "skips" && p != "scenes")
       return makeError("bench: unknown part '" + p +
-                       "': expected complexity, trace, spacing or skips");
+                       "': expected complexity, trace, spacing, skips or scenes");
   auto want = [&](const char* part) {
     return opt.parts.empty() || std::find(opt.parts.begin(), opt.parts.end(), part) != opt.parts.end();
   };
@@ -264,11 +264,25 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
     skips = std::move(*st);
   }
 
+  // (e) Scenes: the defaults against the paper's settings, scene by scene.
+  json scenesTable;
+  if (want("scenes")) {
+    SceneTableOptions so = opt.sceneTable;
+    so.outDir = opt.outDir;
+    so.progress = opt.progress;
+    so.glRenderer = opt.glRenderer;
+    so.glVersion = opt.glVersion;
+    auto st = runSceneTable(so);
+    if (!st) return st.error();
+    scenesTable = std::move(*st);
+  }
+
   json doc = {{"resolution", {512, 512}},
               {"complexity", complexity},
               {"trace", trace},
               {"spacing", spacing},
               {"skips", skips},
+              {"scenes", scenesTable},
               {"parts", opt.parts},
               {"machine", machine},
               {"elapsed_s", all.ms() / 1000.0},
@@ -359,6 +373,34 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
     for (const json& u : skips["unavailable"])
       page.paragraph("Not measured: " + u["scene"].get<std::string>() + " (" +
                      u["reason"].get<std::string>() + ")");
+  }
+  if (want("scenes")) {
+    page.heading("(e) Scenes: the defaults against the paper's settings");
+    page.paragraph("Each scene walked with the defaults and with --preset paper in this run. "
+                   "frame/geometry: frame_ms over the geometry frame's ms at the same camera; "
+                   "PSNR over warped frames only (dB). scenes.csv has every figure.");
+    std::vector<std::vector<std::string>> rowsE;
+    for (const json& r : scenesTable["rows"]) {
+      if (r.contains("error")) {
+        rowsE.push_back({r["scene"].get<std::string>(), "", "not run: " + r["error"].get<std::string>(),
+                         "", "", "", "", ""});
+        continue;
+      }
+      for (const char* preset : {"default", "paper"}) {
+        const json& p = r[preset];
+        rowsE.push_back({r["scene"].get<std::string>(), std::to_string(r["triangles"].get<std::size_t>()),
+                         preset,
+                         fmt(100 * numberOrNan(p["geometry_share"]), 0) + " / " +
+                             fmt(100 * numberOrNan(p["warp_share"]), 0) + " / " +
+                             fmt(100 * numberOrNan(p["keyframe_share"]), 0),
+                         fmt(numberOrNan(p["frame_over_reference_median"])),
+                         fmt(numberOrNan(p["frame_over_reference_p95"])),
+                         fmt(numberOrNan(p["psnr_median"])), fmt(numberOrNan(p["psnr_p5"]))});
+      }
+    }
+    page.table({"scene", "triangles", "preset", "% frames geometry / warp / keyframe",
+                "frame/geometry median", "frame/geometry p95", "PSNR median", "PSNR p5"},
+               rowsE);
   }
   HW_TRY(page.write(opt.outDir + "/index.html"));
   return doc;

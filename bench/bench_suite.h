@@ -3,13 +3,15 @@
 // geometry ms vs in-between ms of the built-in scenes from 100k to 4M
 // triangles at the paper's two thresholds; (b) a walkthrough trace — per-frame
 // and per-stage ms with keyframes marked; (c) keyframe spacing — PSNR vs
-// keyframe_every; (d) each skip on and off. Writes bench.json, CSVs, PNG plots and index.html.
+// keyframe_every; (d) each skip on and off; (e) per scene, the defaults against
+// the paper's settings (bench/scene_table.h). Writes bench.json, CSVs, PNG plots and index.html.
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/scene_table.h"
 #include "bench/skip_study.h"
 #include "core/result.h"
 
@@ -25,8 +27,9 @@ struct BenchOptions {
   std::string traceScene = "indoor";  // built-in scene for the trace and spacing parts
   std::size_t traceTriangles = 1000000;
   SkipStudyOptions skips;  // part (d)
+  SceneTableOptions sceneTable;  // part (e); outDir, progress and GL strings are set from these
   // Parts to run: complexity, trace, spacing (trace and spacing run
-  // together), skips; empty = all.
+  // together), skips, scenes; empty = all.
   std::vector<std::string> parts;
   bool progress = true;
   std::string glRenderer, glVersion;

@@ -146,6 +146,8 @@ class WalkLoop {
   ModeChooser chooser_{opt_.modeChooser};
   double warpFloorMs_ = -1;
   int decidedAt_ = -1;  // the frame whose segment was last decided
+  static constexpr int kProbeEvery = 4;
+  int segmentsSinceProbe_ = 0, geometryProbes_ = 0;
   int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
   int modeSwitches_ = 0;
   int warmupStalls_ = 0;
@@ -345,13 +347,22 @@ int WalkLoop::segmentLength(int k) const {
 // How frame i is drawn. FrameMode::Auto decides at each keyframe of the
 // schedule, for the segment that starts there, whether to warp it.
 FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
+  bool probe = false;
   if (opt_.mode == FrameMode::Auto && k0 == k1 && i != decidedAt_) {
     const bool warp = chooser_.warpNext(warping_, segmentLength(i));
     modeSwitches_ += warp != warping_;
+    // Warping with keyframes from elsewhere, no frame measures the geometry:
+    // every kProbeEvery warped segments one starts with a geometry frame.
+    probe = warp && warping_ && (asyncKf_ || opt_.keyframeSource) &&
+            ++segmentsSinceProbe_ >= kProbeEvery;
+    if (probe) {
+      segmentsSinceProbe_ = 0;
+      ++geometryProbes_;
+    }
     warping_ = warp;
     decidedAt_ = i;
   }
-  if (!warping_) return FrameKind::Geometry;
+  if (!warping_ || probe) return FrameKind::Geometry;
   return k0 == k1 ? FrameKind::Keyframe : FrameKind::Warp;
 }
 
@@ -411,7 +422,9 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
   sources_[k] = std::move(*src);
   uploadStats_[k] = ws;
   const auto& ms = (*kf)->mesh.stats;
-  chooser_.addGeometryMs((*kf)->renderMs);
+  // A keyframe rendered here is a geometry frame's cost (plus its depth
+  // readback); one from the worker or a database is not.
+  if (!asyncKf_ && !opt_.keyframeSource) chooser_.addGeometryMs((*kf)->renderMs);
   s.keyframeMs.push_back((*kf)->renderMs + ms.deltaMs + ms.subdivideMs + ms.cornersMs +
                          ws.uploadMs);
   s.quadsPerKeyframe.push_back(static_cast<double>(ms.quads));
@@ -997,6 +1010,7 @@ void WalkLoop::summariseModes(json& s) const {
                          {"warp", kindCounts_[1]},
                          {"keyframe", kindCounts_[2]}};
   s["mode_switches"] = modeSwitches_;
+  s["geometry_probes"] = geometryProbes_;
   s["mode_costs"] =
       opt_.mode == FrameMode::Auto
           ? json{{"geometry_ms", finiteOrNull(chooser_.geometryMs())},

@@ -56,8 +56,8 @@ same_db() { diff -r "$1" "$2" >/dev/null && [ ! -e "$2/.chunks" ] && [ -s "$2/in
 # ---- local: database and workers -------------------------------------------
 check bake "$hw" bake "${common[@]}" --out db
 check bake-has-4-keyframes test "$(ls db/*.hwkf | wc -l)" -eq 4
-check walk-live "$hw" walk "${common[@]}" --out live --save-frames --strips 0
-check walk-db "$hw" walk "${common[@]}" --out fromdb --save-frames --strips 0 --keyframes db
+check walk-live "$hw" walk --mode hybrid "${common[@]}" --out live --save-frames --strips 0
+check walk-db "$hw" walk --mode hybrid "${common[@]}" --out fromdb --save-frames --strips 0 --keyframes db
 same_frames() {
   local n=0 f
   for f in live/frames/*.png; do cmp -s "$f" "fromdb/frames/${f##*/}" || return 1; n=$((n + 1)); done

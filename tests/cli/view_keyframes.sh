@@ -14,7 +14,7 @@ JSON
 common=(--scene indoor:20k --path path.json)
 "$hw" bake "${common[@]}" --out db --quiet >bake.out 2>&1
 rc=$?; check "bake exits 0 ($(tail -1 bake.out))" test $rc -eq 0
-"$hw" walk "${common[@]}" --keyframes db --save-frames --strips 0 --no-reference --out walk --quiet \
+"$hw" walk --mode hybrid "${common[@]}" --keyframes db --save-frames --strips 0 --no-reference --out walk --quiet \
   >walk.out 2>&1
 rc=$?; check "walk --keyframes exits 0 ($(tail -1 walk.out))" test $rc -eq 0
 

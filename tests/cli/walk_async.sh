@@ -4,10 +4,10 @@
 # Usage: walk_async.sh HYBRIDWALK SOURCE_DIR
 source "$(dirname "$0")/lib.bash"
 for mode in sync async; do
-  extra=""
+  extra="--sync-keyframes"
   [ "$mode" = async ] && extra="--async-keyframes --keyframe-cache-mb 16"
   # shellcheck disable=SC2086
-  "$hw" walk --scene indoor:20k --frames 23 --save-frames --strips 0 --no-reference $extra \
+  "$hw" walk --mode hybrid --scene indoor:20k --frames 23 --save-frames --strips 0 --no-reference $extra \
     --out "$tmp/$mode" --quiet >"$tmp/$mode.stdout" 2>"$tmp/$mode.stderr"
   rc=$?; check "$mode walk exits 0 ($(tail -2 "$tmp/$mode.stderr"))" test $rc -eq 0
 done

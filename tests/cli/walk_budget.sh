@@ -10,7 +10,7 @@ cat > "$tmp/path.json" <<'JSON'
  "keys": [{"eye": [0, 1.6, 4], "look_at": [0, 1.4, 0]}, {"eye": [1, 1.6, 1], "look_at": [0, 1.4, -3]}],
  "frames": 13, "keyframe_every": 6}
 JSON
-common=(walk --scene indoor:20k --path "$tmp/path.json" --strips 0 --quiet)
+common=(walk --mode hybrid --scene indoor:20k --path "$tmp/path.json" --strips 0 --quiet)
 "$hw" "${common[@]}" --frame-budget-ms 40 --out "$tmp/b" >"$tmp/b.stdout" 2>"$tmp/b.stderr"
 rc=$?; check "budget walk exits 0 ($(tail -2 "$tmp/b.stderr"))" test $rc -eq 0
 r="$tmp/b/report.json"

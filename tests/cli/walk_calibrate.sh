@@ -10,22 +10,22 @@
 # Usage: walk_calibrate.sh HYBRIDWALK SOURCE_DIR
 source "$(dirname "$0")/lib.bash"
 common=(--scene indoor:20k --frames 40 --strips 0 --quiet)
-"$hw" walk "${common[@]}" --out "$tmp/fixed" >"$tmp/fixed.out" 2>&1
+"$hw" walk --mode hybrid "${common[@]}" --out "$tmp/fixed" >"$tmp/fixed.out" 2>&1
 rc=$?; check "fixed walk exits 0 ($(tail -2 "$tmp/fixed.out"))" test $rc -eq 0
 plan=(--schedule adaptive --plan-by walk-median --predictor probe-psnr --max-gap 12)
-"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 \
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 \
   --out "$tmp/cal" >"$tmp/cal.out" 2>"$tmp/cal.err"
 rc=$?; check "calibrated walk exits 0 ($(tail -2 "$tmp/cal.err"))" test $rc -eq 0
 check "calibration.csv written" test -s "$tmp/cal/calibration.csv"
 check "calibration.png written" test -s "$tmp/cal/calibration.png"
 check "planned.png written" test -s "$tmp/cal/planned.png"
 check "stderr reports the calibration" grep -q "calibrated probe-psnr on .* in-between frames: residual sd" "$tmp/cal.err"
-"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr 30 --plan-uncertainty 0 \
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr 30 --plan-uncertainty 0 \
   --out "$tmp/u0" >"$tmp/u0.out" 2>&1
 rc=$?; check "calibrated walk with --plan-uncertainty 0 exits 0" test $rc -eq 0
-"$hw" walk "${common[@]}" "${plan[@]}" --target-psnr 30 --out "$tmp/plain" >"$tmp/plain.out" 2>&1
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --target-psnr 30 --out "$tmp/plain" >"$tmp/plain.out" 2>&1
 rc=$?; check "uncalibrated walk exits 0" test $rc -eq 0
-"$hw" walk "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 --calibration-window 3 \
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --calibrate-spacing 6 --target-psnr fixed:10 --calibration-window 3 \
   --out "$tmp/win" >"$tmp/win.out" 2>"$tmp/win.err"
 rc=$?; check "calibrated walk with --calibration-window 3 exits 0 ($(tail -2 "$tmp/win.err"))" test $rc -eq 0
 check "stderr reports what the window leaves" grep -q "along the path (3 frames): .* dB left" "$tmp/win.err"

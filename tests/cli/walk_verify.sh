@@ -10,12 +10,12 @@ source "$(dirname "$0")/lib.bash"
 common=(--scene indoor:20k --frames 40 --strips 0 --quiet)
 plan=(--schedule adaptive --plan-by walk-median --predictor probe-psnr --max-gap 12
       --calibrate-spacing 6 --target-psnr fixed:10)
-"$hw" walk "${common[@]}" "${plan[@]}" --calibration-window 3 --verify-rounds 12 --verify-optimism 0.5 \
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --calibration-window 3 --verify-rounds 12 --verify-optimism 0.5 \
   --out "$tmp/v" >"$tmp/v.out" 2>"$tmp/v.err"
 rc=$?; check "verified walk exits 0 ($(tail -2 "$tmp/v.err"))" test $rc -eq 0
 check "verify.png written" test -s "$tmp/v/verify.png"
 check "stderr reports the verified plan" grep -q "verified: .* keyframes (planned .*) after .* rounds" "$tmp/v.err"
-"$hw" walk "${common[@]}" "${plan[@]}" --verify-rounds 0 --out "$tmp/off" >"$tmp/off.out" 2>&1
+"$hw" walk --mode hybrid "${common[@]}" "${plan[@]}" --verify-rounds 0 --out "$tmp/off" >"$tmp/off.out" 2>&1
 rc=$?; check "--verify-rounds 0 exits 0" test $rc -eq 0
 python3 - "$tmp" <<'PY'
 import json, sys
