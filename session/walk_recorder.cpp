@@ -29,16 +29,18 @@ void RecordedFrameTimes::attach(SpillFile* file) {
   frame.attach(file);
   keyframe.attach(file);
   builtKeyframe.attach(file);
+  kind.attach(file);
   workMs.attach(file);
   intervalMs.attach(file);
   budgetMs.attach(file);
   referenceMs.attach(file);
 }
 
-void RecordedFrameTimes::push(int i, bool isKeyframe, bool built, double work, double interval,
+void RecordedFrameTimes::push(int i, FrameKind k, bool built, double work, double interval,
                               double budget, double reference) {
   frame.push_back(i);
-  keyframe.push_back(isKeyframe ? 1 : 0);
+  keyframe.push_back(k == FrameKind::Keyframe ? 1 : 0);
+  kind.push_back(k);
   builtKeyframe.push_back(built ? 1 : 0);
   workMs.push_back(work);
   intervalMs.push_back(interval);
@@ -51,6 +53,7 @@ FrameTimes RecordedFrameTimes::take() const {
   t.frame = frame.values();
   t.keyframe = keyframe.values();
   t.builtKeyframe = builtKeyframe.values();
+  t.kind = kind.values();
   t.workMs = workMs.values();
   t.intervalMs = intervalMs.values();
   t.budgetMs = budgetMs.values();

@@ -29,9 +29,10 @@ nlohmann::json seriesStats(const SpilledSeries<double>& v);
 struct RecordedFrameTimes {
   SpilledSeries<int> frame;
   SpilledSeries<char> keyframe, builtKeyframe;
+  SpilledSeries<FrameKind> kind;
   SpilledSeries<double> workMs, intervalMs, budgetMs, referenceMs;
   void attach(SpillFile* file);
-  void push(int i, bool isKeyframe, bool built, double work, double interval, double budget,
+  void push(int i, FrameKind k, bool built, double work, double interval, double budget,
             double reference);
   FrameTimes take() const;
 };
