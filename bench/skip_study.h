@@ -1,5 +1,5 @@
 #pragma once
-// Issue #8's skip table: for each skip the walk can make (fused layers with
+// The skip table: for each skip the walk can make (fused layers with
 // the background drawn only where the foreground left holes, the coverage
 // test that drops the background layer, the previous-frame pass, the sky
 // drawn as rectangles at infinity instead of leaving empty pixels as holes,

@@ -7,7 +7,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/texture.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stb_image.h>  // implementation compiled in core/file_io.cpp
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -841,17 +847,85 @@ Result<std::string> findTorcsTrack(const std::string& root, const std::string& n
                                   : " (tracks found: " + list + ")"));
 }
 
+namespace {
+
+constexpr unsigned kBlendFlags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
+                                 aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                                 aiProcess_FlipUVs | aiProcess_ValidateDataStructure;
+
+const aiScene* readBlend(Assimp::Importer& importer, const std::string& path,
+                         unsigned flags = kBlendFlags) {
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  return importer.ReadFile(path, flags);
+}
+
+// Assimp 5's Blender importer follows the file's pointers and block sizes
+// without checking them all: it segfaults on some real files (the MORSE
+// environments human_tut/tutorial_scene and sandbox) and on damaged ones. A
+// crash cannot be caught in the process, so the import is first tried in a
+// forked child; this process imports the file only when the child came
+// through (whether or not Assimp accepted the file: its own error message is
+// then the one to show). The child only reads and validates (no
+// triangulation, normals or vertex joining: those run on validated data):
+// tum_kitchen (266k triangles) loads in 3.8–4.3 s instead of 2.4–3.2 s
+// (5.1 s with a full second import; all on a loaded machine).
+Status tryBlendImportInChild(const std::string& path) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return {};  // no child: import here, as without the guard
+  if (pid == 0) {
+    // The parent's SIGINT/SIGTERM handler would remove the parent's
+    // temporaries; the child has none of its own. It dies with the parent,
+    // leaves no core file and says nothing (sanitizer reports included).
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    const rlimit noCore{0, 0};
+    ::setrlimit(RLIMIT_CORE, &noCore);
+    const int devNull = ::open("/dev/null", O_WRONLY);
+    if (devNull >= 0) {
+      ::dup2(devNull, 1);
+      ::dup2(devNull, 2);
+    }
+    int code = 0;
+    try {
+      Assimp::Importer importer;
+      code = readBlend(importer, path, aiProcess_ValidateDataStructure) ? 0 : 3;
+    } catch (...) {
+      code = 3;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return {};
+  const char* how = nullptr;
+  std::string detail;
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    detail = sig == SIGSEGV ? "SIGSEGV" : sig == SIGBUS ? "SIGBUS" : sig == SIGABRT ? "SIGABRT"
+             : sig == SIGKILL ? "SIGKILL (out of memory?)" : "signal " + std::to_string(sig);
+    how = "crashed";
+  } else if (WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 3) {
+    detail = "exit status " + std::to_string(WEXITSTATUS(status));  // e.g. a sanitizer's report
+    how = "failed";
+  }
+  if (!how) return {};
+  return makeError(path + ": Assimp's Blender importer " + how + " reading this file (" + detail +
+                   " in a child process that tries each .blend first); not loaded (expected a "
+                   ".blend that Assimp 5 imports: re-save it from Blender 2.7x, or export it "
+                   "as glTF or OBJ)");
+}
+
+}  // namespace
+
 Result<Scene> loadBlendFile(const std::string& path, const BlendOptions& options) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return makeError(path + ": no such file");
+  HW_TRY(tryBlendImportInChild(path));
   try {
     Assimp::Importer importer;
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-                           aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                           aiProcess_FlipUVs | aiProcess_ValidateDataStructure;
-    const aiScene* ai = importer.ReadFile(path, flags);
+    const aiScene* ai = readBlend(importer, path);
     if (!ai) return makeError(path + ": Assimp cannot read it: " + importer.GetErrorString());
     if (!ai->mRootNode) return makeError(path + ": Assimp returned no node tree");
     BlendLoader l(ai, path, options);

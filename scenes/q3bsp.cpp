@@ -443,8 +443,11 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     m.name = sh.name;
     Q3Texture t;
     if (resolve) t = resolve(sh.name);
+    const bool earlier = t.sameAsEarlier && textureByPath.count(t.path) > 0;
+    if (t.sameAsEarlier && !earlier)
+      t.error = "image " + t.path + " named again before its first use (resolver bug)";
     if (sky) {  // drawn only with an image: the sky's own (unlit, both sides)
-      if (t.image.empty()) return sh.material = -1;
+      if (t.image.empty() && !earlier) return sh.material = -1;
       m.sky = m.unlit = true;
       t.twoSided = true;
       t.alphaTest = false;
@@ -452,7 +455,7 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     m.twoSided = t.twoSided;
     m.alphaTest = t.alphaTest;
     m.alphaCutoff = t.alphaCutoff;
-    if (!t.image.empty() && !t.path.empty() && textureByPath.count(t.path)) {
+    if ((earlier || !t.image.empty()) && !t.path.empty() && textureByPath.count(t.path)) {
       m.texture = textureByPath[t.path];
     } else {
       Texture tex;
@@ -986,7 +989,7 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
     if (!w.empty()) warnings.push_back(std::move(w));
   }
 
-  std::unordered_map<std::string, Image<Rgba8>> decoded;
+  std::set<std::string> decoded;  // paths whose image an earlier call returned
   std::map<std::string, int> notDrawnCount;  // feature → shaders of this map using it
   // The game's image lookup: the name without extension, as .tga, then .jpg.
   auto findImage = [&](const std::string& name) -> const Pk3Set::Entry* {
@@ -1024,8 +1027,8 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
       return t;
     }
     t.path = pk3s->describe(*e);
-    if (auto d = decoded.find(t.path); d != decoded.end()) {
-      t.image = d->second;
+    if (decoded.count(t.path)) {
+      t.sameAsEarlier = true;  // the scene holds it: no second copy
       return t;
     }
     auto data = pk3s->read(*e);
@@ -1042,7 +1045,7 @@ Result<Q3Map> loadQ3Map(const std::string& mapName, const Q3Options& options) {
     }
     if (!downscaled.empty()) warnings.push_back(downscaled);
     t.image = std::move(*img);
-    decoded.emplace(t.path, t.image);
+    decoded.insert(t.path);
     return t;
   };
 

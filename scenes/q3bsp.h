@@ -56,6 +56,9 @@ struct Q3Spawn {
 struct Q3Texture {
   Image<Rgba8> image;
   std::string path;  // the file the image came from, for names and messages
+  // The image is the one an earlier call returned for `path` (left empty
+  // here: each decoded texture is kept once, by the scene).
+  bool sameAsEarlier = false;
   std::string error;
   bool twoSided = false;   // shader "cull none/disable/twosided"
   bool alphaTest = false;  // shader "alphaFunc"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Longer libFuzzer runs for people (issue #7; CI runs each target for 20 s in
+# Longer libFuzzer runs for people (CI runs each target for 20 s in
 # scripts/test.sh). Builds the `fuzz` preset (clang; build dir build-fuzz;
 # the whole build instrumented with coverage + ASan + UBSan), then runs each
 # target, or the ones named, for a fixed wall-clock time starting from its

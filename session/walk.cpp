@@ -841,7 +841,7 @@ Result<WalkResult> WalkLoop::run() {
   HW_TRY(recorder_.finish(summary(), writing_ ? opt_.outDir + "/report.json" : std::string(),
                           &result.report));
   result.strips = std::move(recorder_.strips);
-  result.frameTimes = std::move(recorder_.frameTimes);
+  result.frameTimes = recorder_.frameTimes.take();
   return result;
 }
 
@@ -923,7 +923,8 @@ void WalkLoop::summariseLod(json& s) const {
 // frames included, and the in-between frames alone; keyframe acquisition.
 void WalkLoop::summariseTiming(json& s) const {
   const auto& r = recorder_.series;
-  auto ratio = [](const std::vector<double>& v) {
+  auto ratio = [](const WalkRecorder::Column& c) {
+    const std::vector<double> v = c.values();
     const double m = median(v);
     return m > 0 ? finiteOrNull(percentile(v, 95) / m) : json(nullptr);
   };
@@ -944,7 +945,7 @@ void WalkLoop::summariseTiming(json& s) const {
   s["keyframe_warmup_ms"] = warmupMs_;
   s["keyframe_stall_ms"] = seriesStats(r.stallMs);
   double stallTotal = 0;
-  for (double t : r.stallMs) stallTotal += t;
+  for (double t : r.stallMs.values()) stallTotal += t;
   s["keyframe_stall_ms_total"] = stallTotal;
   s["keyframe_flush_triangles"] = asyncKf_ ? json(opt_.keyframeFlushTriangles) : json(nullptr);
   s["keyframe_worker_nice"] = asyncKf_ ? json(opt_.keyframeWorkerNice) : json(nullptr);
@@ -967,7 +968,7 @@ void WalkLoop::summariseBudget(json& s) const {
   const auto& r = recorder_.series;
   const auto& c = recorder_.counts;
   std::vector<double> budgets;  // the frames that had one
-  for (double b : recorder_.frameTimes.budgetMs)
+  for (double b : recorder_.frameTimes.budgetMs.values())
     if (b > 0) budgets.push_back(b);
   s["frame_budget_ms"] = opt_.frameBudgetAuto ? finiteOrNull(median(budgets))
                                               : json(opt_.frameBudgetMs);
@@ -1020,11 +1021,12 @@ void WalkLoop::summariseModes(json& s) const {
                  {"leave_above", opt_.modeChooser.leaveAbove}}
           : json(nullptr);
   auto over = [](double a, double b) { return b > 0 ? finiteOrNull(a / b) : json(nullptr); };
+  const std::vector<double> frameMs = r.frameMs.values(), referenceMs = r.referenceMs.values();
   s["frame_over_reference"] =
-      r.referenceMs.empty()
+      referenceMs.empty()
           ? json(nullptr)
-          : json{{"median", over(median(r.frameMs), median(r.referenceMs))},
-                 {"p95", over(percentile(r.frameMs, 95), percentile(r.referenceMs, 95))}};
+          : json{{"median", over(median(frameMs), median(referenceMs))},
+                 {"p95", over(percentile(frameMs, 95), percentile(referenceMs, 95))}};
 }
 
 }  // namespace

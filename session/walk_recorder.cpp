@@ -23,9 +23,63 @@ json seriesStats(const std::vector<double>& v) {
           {"count", v.size()}};
 }
 
-WalkRecorder::WalkRecorder(bool keepFrames, std::string scratchPath, int frames)
-    : keepFrames_(keepFrames), scratchPath_(std::move(scratchPath)) {
-  frameTimes.reserve(static_cast<std::size_t>(frames > 0 ? frames : 0));
+json seriesStats(const SpilledSeries<double>& v) { return seriesStats(v.values()); }
+
+void RecordedFrameTimes::attach(SpillFile* file) {
+  frame.attach(file);
+  keyframe.attach(file);
+  builtKeyframe.attach(file);
+  kind.attach(file);
+  workMs.attach(file);
+  intervalMs.attach(file);
+  budgetMs.attach(file);
+  referenceMs.attach(file);
+}
+
+void RecordedFrameTimes::push(int i, FrameKind k, bool built, double work, double interval,
+                              double budget, double reference) {
+  frame.push_back(i);
+  keyframe.push_back(k == FrameKind::Keyframe ? 1 : 0);
+  kind.push_back(k);
+  builtKeyframe.push_back(built ? 1 : 0);
+  workMs.push_back(work);
+  intervalMs.push_back(interval);
+  budgetMs.push_back(budget);
+  referenceMs.push_back(reference);
+}
+
+FrameTimes RecordedFrameTimes::take() const {
+  FrameTimes t;
+  t.frame = frame.values();
+  t.keyframe = keyframe.values();
+  t.builtKeyframe = builtKeyframe.values();
+  t.kind = kind.values();
+  t.workMs = workMs.values();
+  t.intervalMs = intervalMs.values();
+  t.budgetMs = budgetMs.values();
+  t.referenceMs = referenceMs.values();
+  return t;
+}
+
+WalkRecorder::WalkRecorder(bool keepFrames, std::string scratchPath, int /*frames*/)
+    : keepFrames_(keepFrames),
+      scratchPath_(std::move(scratchPath)),
+      // Beside the streamed report frames when writing, else in $TMPDIR.
+      spill_(std::make_unique<SpillFile>(
+          scratchPath_.empty() ? std::string()
+                               : std::filesystem::path(scratchPath_).parent_path().string())) {
+  Series& s = series;
+  for (Column* c :
+       {&s.psnr, &s.ssim, &s.holesBefore, &s.holesAfter, &s.inBetweenMs, &s.referenceMs,
+        &s.keyframeMs, &s.quadsPerKeyframe, &s.warpMs, &s.composeMs, &s.lodBuildMs,
+        &s.onePixelLeaves, &s.drawnQuads, &s.subdividedQuads, &s.pointsPerKeyframe,
+        &s.foregroundUncovered, &s.backgroundCulled, &s.psnrLargeQuads, &s.largeQuadPixels,
+        &s.nearMs, &s.stalePixels, &s.maxAges, &s.refreshedPixels, &s.refreshMs,
+        &s.frameIntervalMs, &s.inBetweenIntervalMs, &s.frameMs, &s.inBetweenFrameMs, &s.stallMs,
+        &s.sliceMs, &s.speedup, &s.refreshPredictedOverMeasured})
+    c->attach(spill_.get());
+  static_assert(sizeof(Series) == 32 * sizeof(Column), "attach every series above");
+  frameTimes.attach(spill_.get());
 }
 
 WalkRecorder::~WalkRecorder() {
@@ -62,6 +116,10 @@ Status WalkRecorder::addFrame(json entry) {
 }
 
 Status WalkRecorder::finish(json summary, const std::string& path, json* report) {
+  if (spill_->readFailed())
+    return makeError("cannot read back the walk's series scratch file (in " +
+                     (scratchPath_.empty() ? std::string("$TMPDIR") : scratchPath_) +
+                     "): the summary would be wrong");
   *report = {{"frames", std::move(frames_)}, {"summary", std::move(summary)}};
   frames_ = json::array();
   if (path.empty()) return {};

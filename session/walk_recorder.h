@@ -14,6 +14,7 @@
 #include "core/image.h"
 #include "core/result.h"
 #include "core/safe_io.h"
+#include "session/spilled_series.h"
 #include "session/walk.h"
 
 namespace hw::session {
@@ -21,6 +22,20 @@ namespace hw::session {
 // Order statistics of a series as the report writes them: median, p5, p95,
 // min, max (null when empty or not finite) and count.
 nlohmann::json seriesStats(const std::vector<double>& v);
+nlohmann::json seriesStats(const SpilledSeries<double>& v);
+
+// FrameTimes as the walk records them: spilled like the series, turned into a
+// FrameTimes for frame_times.png once the walk is done.
+struct RecordedFrameTimes {
+  SpilledSeries<int> frame;
+  SpilledSeries<char> keyframe, builtKeyframe;
+  SpilledSeries<FrameKind> kind;
+  SpilledSeries<double> workMs, intervalMs, budgetMs, referenceMs;
+  void attach(SpillFile* file);
+  void push(int i, FrameKind k, bool built, double work, double interval, double budget,
+            double reference);
+  FrameTimes take() const;
+};
 
 class WalkRecorder {
  public:
@@ -37,9 +52,11 @@ class WalkRecorder {
   // `report` (empty when streamed).
   Status finish(nlohmann::json summary, const std::string& path, nlohmann::json* report);
 
-  // Series for the summary (one value per frame, keyframe or pair, as named).
+  // Series for the summary (one value per frame, keyframe or pair, as named);
+  // beyond a few thousand values each, spilled to a scratch file (flat memory).
+  using Column = SpilledSeries<double>;
   struct Series {
-    std::vector<double> psnr, ssim, holesBefore, holesAfter, inBetweenMs, referenceMs, keyframeMs,
+    Column psnr, ssim, holesBefore, holesAfter, inBetweenMs, referenceMs, keyframeMs,
         quadsPerKeyframe, warpMs, composeMs, lodBuildMs, onePixelLeaves, drawnQuads,
         subdividedQuads, pointsPerKeyframe, foregroundUncovered, backgroundCulled,
         psnrLargeQuads, largeQuadPixels, nearMs, stalePixels, maxAges, refreshedPixels,
@@ -52,7 +69,7 @@ class WalkRecorder {
     long long refreshRects = 0, glErrors = 0;
   } counts;
   nlohmann::json residentKiB = nlohmann::json::array();  // [frame, KiB] every 500 frames
-  FrameTimes frameTimes;                                 // for frame_times.png
+  RecordedFrameTimes frameTimes;                         // for frame_times.png
   std::vector<Image<Rgba8>> strips;
   std::vector<nlohmann::json> stripInfo;
 
@@ -63,6 +80,7 @@ class WalkRecorder {
   std::unique_ptr<TemporaryFile> registration_;  // removes a named scratch on SIGINT/SIGTERM
   bool firstWritten_ = false;
   nlohmann::json frames_ = nlohmann::json::array();
+  std::unique_ptr<SpillFile> spill_;  // the series' older values
 };
 
 }  // namespace hw::session

@@ -6,11 +6,13 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/file_io.h"
 #include "core/json_guard.h"
@@ -102,6 +104,44 @@ TEST(SafeIo, OutputOverFifoOrSocketIsRefusedAndNothingIsWritten) {
   EXPECT_FALSE(ensureWritableDir(fifo).ok());
   EXPECT_FALSE(ensureWritableDir("").ok());
   EXPECT_FALSE(writeFileAtomic("", "x").ok());
+}
+
+// A process killed by SIGKILL leaves NAME.tmp-PID behind; the next write into
+// that directory removes it, and nothing else.
+TEST(SafeIo, StaleTemporariesOfDeadProcessesAreRemovedAndNothingElse) {
+  const std::string dir = tempDir();
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);  // now a dead PID
+  const std::string dead = std::to_string(child), live = std::to_string(::getpid());
+  auto touch = [&](const std::string& name) { std::ofstream(dir + "/" + name) << "x"; };
+  const std::vector<std::string> stale = {"report.json.tmp-" + dead,
+                                          ".report-frames.tmp-" + dead,
+                                          "a.png.tmp-1.tmp-" + dead};
+  const std::vector<std::string> kept = {"other.json.tmp-" + live,  // a live process's
+                                         "notes.tmp-" + dead + ".txt", "notes.tmp-" + dead + "x",
+                                         "notes.tmp-", "x.tmp-abc", "plain.txt",
+                                         "report.json.tmp-1"};  // PID 1 is alive
+  for (const auto& n : stale) touch(n);
+  for (const auto& n : kept) touch(n);
+  std::filesystem::create_directory(dir + "/sub.tmp-" + dead);  // a directory: kept
+  std::filesystem::create_symlink(dir + "/plain.txt", dir + "/link.tmp-" + dead);  // kept
+  std::ofstream(dir + "/sub.tmp-" + dead + "/inner.tmp-" + dead) << "x";  // below: not swept
+  ASSERT_TRUE(writeFileAtomic(dir + "/report.json", "{}").ok());
+  for (const auto& n : stale) EXPECT_FALSE(std::filesystem::exists(dir + "/" + n)) << n;
+  for (const auto& n : kept) EXPECT_TRUE(std::filesystem::exists(dir + "/" + n)) << n;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/sub.tmp-" + dead + "/inner.tmp-" + dead));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir + "/link.tmp-" + dead));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/report.json"));
+  // Once per directory and process: a stale file appearing later stays until
+  // the next run (or an explicit sweep).
+  touch("late.tmp-" + dead);
+  ASSERT_TRUE(writeFileAtomic(dir + "/report.json", "{}").ok());
+  EXPECT_TRUE(std::filesystem::exists(dir + "/late.tmp-" + dead));
+  EXPECT_EQ(removeStaleTemporaries(dir), 1);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/late.tmp-" + dead));
 }
 
 TEST(SafeIo, TemporaryFileIsRemovedUnlessReleasedAndRegisteredMeanwhile) {

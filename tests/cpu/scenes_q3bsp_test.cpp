@@ -366,6 +366,47 @@ TEST_F(Q3BspTest, TexturesResolvedAsTheGameDoes) {
   EXPECT_NE(s.warnings[1].find("lightmaps (1)"), std::string::npos) << s.warnings[1];
 }
 
+// Two shaders drawing the same image: it is decoded once and kept once (the
+// loader's resolver answers the second with sameAsEarlier, no copy), and both
+// materials use the one texture; a sky shader may reuse an image too.
+TEST_F(Q3BspTest, SharedImageIsDecodedAndKeptOnce) {
+  TestBsp b;
+  b.shaders.push_back({"textures/test/alias", 0, 1});
+  b.faces[1].shader = 1;
+  const std::string a = (dir_ / "pak0.pk3").string();
+  writeZip(a, {{"maps/test.bsp", b.bytes()},
+               {"textures/test/wall.tga", tga(2, 2, kWallPixels)},
+               {"scripts/test.shader",
+                "textures/test/alias\n{\n  {\n    map textures/test/wall.tga\n  }\n}\n"}});
+  auto map = loadQ3Map("test", withPk3s({a}));
+  ASSERT_TRUE(map.ok()) << map.error().message;
+  const Scene& s = map->scene;
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.materials[0].texture, s.materials[1].texture);
+  EXPECT_EQ(map->stats.missingTextures, 0u);
+  EXPECT_EQ(s.textures[0].image.width(), 2);
+
+  TestBsp sky;
+  sky.shaders.push_back({"textures/skies/blue", 0x4, 0});
+  sky.faces[1].shader = 1;
+  int calls = 0;
+  auto shared = parseQ3Bsp(sky.bytes(), "s.bsp", [&](const std::string&) {
+    Q3Texture t;
+    t.path = "p.pk3:textures/one.tga";
+    if (calls++ == 0)
+      t.image = Image<Rgba8>(2, 2);
+    else
+      t.sameAsEarlier = true;
+    return t;
+  });
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(shared->stats.skyFaces, 1u);
+  EXPECT_EQ(shared->scene.textures.size(), 1u);
+  EXPECT_EQ(shared->stats.missingTextures, 0u);
+}
+
 // A stage's tcMod scale multiplies the texture coordinates; a sky face is
 // drawn (unlit, flagged sky, left out of ray queries) when its shader has an
 // image, and skipped as before when not.
