@@ -44,63 +44,78 @@ bool parseFallback(const char* s, Fallback* out) {
   return false;
 }
 
-void reprojectFrame(const Frame& previous, const Camera& target, Frame& out) {
+void reprojectFrame(const Frame& previous, const Camera& target, Frame& out,
+                    const Image<std::uint8_t>* wanted) {
   HW_CHECK(&previous != &out);
   checkSameSize(previous.colour, previous.valid);
   checkSameSize(previous.colour, previous.eyeZ);
   const int w = target.width, h = target.height;
+  if (wanted) {
+    HW_CHECK_EQ(wanted->width(), w);
+    HW_CHECK_EQ(wanted->height(), h);
+  }
   ensureSize(out.colour, w, h);
   ensureSize(out.valid, w, h);
   ensureSize(out.eyeZ, w, h);
   out.camera = target;
   out.valid.fill(0);
-  out.eyeZ.fill(0.0f);
 
   // Previous camera coordinates (x, y, 1)·z → target camera coordinates:
   // c = z·(x·R0 + y·R1 + R2) + t, R_k the previous axes in the target's basis.
+  // Float: 6e-8 relative, far inside a pixel at these resolutions.
   const Camera& src = previous.camera;
   auto inTarget = [&](const glm::dvec3& v) {
-    return glm::dvec3(glm::dot(v, target.right), glm::dot(v, target.up),
-                      glm::dot(v, target.forward));
+    return glm::vec3(glm::dot(v, target.right), glm::dot(v, target.up),
+                     glm::dot(v, target.forward));
   };
-  const glm::dvec3 r0 = inTarget(src.right), r1 = inTarget(src.up), r2 = inTarget(src.forward);
-  const glm::dvec3 t = inTarget(src.eye - target.eye);
-  const double sfx = src.fx(), sfy = src.fy(), scx = src.cx(), scy = src.cy();
-  const double tfx = target.fx(), tfy = target.fy(), tcx = target.cx(), tcy = target.cy();
+  const glm::vec3 r0 = inTarget(src.right), r1 = inTarget(src.up), r2 = inTarget(src.forward);
+  const glm::vec3 t = inTarget(src.eye - target.eye);
+  const float sfx = static_cast<float>(src.fx()), sfy = static_cast<float>(src.fy());
+  const float scx = static_cast<float>(src.cx()), scy = static_cast<float>(src.cy());
+  const float tfx = static_cast<float>(target.fx()), tfy = static_cast<float>(target.fy());
+  const float tcx = static_cast<float>(target.cx()), tcy = static_cast<float>(target.cy());
+  const float fw = static_cast<float>(w), fh = static_cast<float>(h);
   constexpr float kSkyHalf = 0.5f * warp::kSkyEyeZ;
   const int sw = previous.colour.width(), sh = previous.colour.height();
+  const Rgba8* __restrict inColour = previous.colour.data();
+  const std::uint8_t* __restrict inValid = previous.valid.data();
+  const float* __restrict inZ = previous.eyeZ.data();
+  Rgba8* __restrict outColour = out.colour.data();
+  std::uint8_t* __restrict outValid = out.valid.data();
+  float* __restrict outZ = out.eyeZ.data();
   for (int y = 0; y < sh; ++y) {
-    const double sy = (scy - (y + 0.5)) / sfy;
+    const glm::vec3 rowDir = ((scy - (static_cast<float>(y) + 0.5f)) / sfy) * r1 + r2;
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(sw);
     for (int x = 0; x < sw; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sw) +
-                            static_cast<std::size_t>(x);
-      const float z = previous.eyeZ.data()[i];
-      if (!previous.valid.data()[i] || !(z > 0.0f)) continue;
-      const double sx = (x + 0.5 - scx) / sfx;
-      const glm::dvec3 dir = sx * r0 + sy * r1 + r2;
+      const std::size_t i = row + static_cast<std::size_t>(x);
+      const float z = inZ[i];
+      if (!inValid[i] || !(z > 0.0f)) continue;
+      const glm::vec3 dir = ((static_cast<float>(x) + 0.5f - scx) / sfx) * r0 + rowDir;
       const bool sky = z >= kSkyHalf;
-      const glm::dvec3 c = sky ? dir : static_cast<double>(z) * dir + t;
-      if (!(c.z > 1e-9)) continue;  // behind the target eye
-      const double u = tcx + tfx * c.x / c.z, v = tcy - tfy * c.y / c.z;
-      if (!(u >= 0.0 && u < w && v >= 0.0 && v < h)) continue;
+      const glm::vec3 c = sky ? dir : z * dir + t;
+      if (!(c.z > 1e-6f)) continue;  // behind the target eye
+      const float inv = 1.0f / c.z;
+      const float u = tcx + tfx * c.x * inv, v = tcy - tfy * c.y * inv;
+      if (!(u >= 0.0f && u < fw && v >= 0.0f && v < fh)) continue;
       const std::size_t o = static_cast<std::size_t>(static_cast<int>(v)) * static_cast<std::size_t>(w) +
                             static_cast<std::size_t>(static_cast<int>(u));
-      const float cz = sky ? warp::kSkyEyeZ : static_cast<float>(c.z);
-      if (out.valid.data()[o] && out.eyeZ.data()[o] <= cz) continue;
-      out.valid.data()[o] = 1;
-      out.eyeZ.data()[o] = cz;
-      out.colour.data()[o] = previous.colour.data()[i];
+      const float cz = sky ? warp::kSkyEyeZ : c.z;
+      if (outValid[o] && outZ[o] <= cz) continue;
+      outValid[o] = 1;
+      outZ[o] = cz;
+      outColour[o] = inColour[i];
     }
   }
 
   // Cracks: where neighbouring points spread apart (the camera moved closer
   // or turned), an empty pixel inside written ones takes the nearest
   // neighbour. Pixels filled here are marked 2 so they feed no other.
+  const std::uint8_t* want = wanted ? wanted->data() : nullptr;
   for (int y = 1; y + 1 < h; ++y) {
     for (int x = 1; x + 1 < w; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                             static_cast<std::size_t>(x);
-      if (out.valid.data()[i]) continue;
+      if (outValid[i] || (want && want[i])) continue;
       int count = 0;
       std::size_t best = i;
       float bestZ = 0.0f;
@@ -108,23 +123,21 @@ void reprojectFrame(const Frame& previous, const Camera& target, Frame& out) {
         for (int dx = -1; dx <= 1; ++dx) {
           const std::size_t j = static_cast<std::size_t>(y + dy) * static_cast<std::size_t>(w) +
                                 static_cast<std::size_t>(x + dx);
-          if (out.valid.data()[j] != 1) continue;
+          if (outValid[j] != 1) continue;
           ++count;
-          const float zj = out.eyeZ.data()[j];
+          const float zj = outZ[j];
           if (best == i || zj < bestZ) {
             best = j;
             bestZ = zj;
           }
         }
       if (count >= 4) {
-        out.valid.data()[i] = 2;
-        out.eyeZ.data()[i] = bestZ;
-        out.colour.data()[i] = out.colour.data()[best];
+        outValid[i] = 2;
+        outZ[i] = bestZ;
+        outColour[i] = outColour[best];
       }
     }
   }
-  for (std::size_t i = 0; i < out.valid.size(); ++i)
-    out.valid.data()[i] = out.valid.data()[i] != 0;
 }
 
 FillStats fillHoles(const Frame& reprojected, const Frame* samePixel, Frame& out) {

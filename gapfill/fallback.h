@@ -24,12 +24,16 @@ bool parseFallback(const char* s, Fallback* out);
 // from `target`: each valid pixel's centre is projected into target and
 // written to the pixel it lands in when it is nearer than what is there.
 // Then one pass closes cracks: an empty pixel with at least 4 of its 8
-// neighbours written takes the nearest of them. out.colour, .valid (1 =
-// written) and .eyeZ (along target's W) have target's size; out.camera =
-// target; the other members of `out` are not touched.
+// neighbours written takes the nearest of them (only where `wanted`, if
+// given, is 0: the pixels a frame still has to fill, its `valid`).
+// out.colour, .valid (non-zero = written: 1 projected, 2 crack) and .eyeZ
+// (along target's W; meaningless where valid = 0) have target's size;
+// out.camera = target; the other members of `out` are not touched.
 // Preconditions (checked): previous's colour, valid and eyeZ have one size;
-// &previous != &out. Allocation-free once `out` has target's size.
-void reprojectFrame(const Frame& previous, const Camera& target, Frame& out);
+// wanted (if given) has target's size; &previous != &out. Allocation-free
+// once `out` has target's size.
+void reprojectFrame(const Frame& previous, const Camera& target, Frame& out,
+                    const Image<std::uint8_t>* wanted = nullptr);
 
 struct FillStats {
   int reprojected = 0;  // pixels filled from the reprojected frame

@@ -137,7 +137,7 @@ Status InBetweenStep::fillFromPrevious(const Camera& cam, const gapfill::Frame* 
   HW_CHECK_EQ(previous->eyeZ.width(), previous->colour.width());
   HW_CHECK_EQ(previous->eyeZ.height(), previous->colour.height());
   Stopwatch sw;
-  gapfill::reprojectFrame(*previous, cam, reprojected_);
+  gapfill::reprojectFrame(*previous, cam, reprojected_, &frame.valid);
   const gapfill::FillStats fs = gapfill::fillHoles(reprojected_, previous, frame);
   st.reprojectedPixels = fs.reprojected;
   st.copiedPixels = fs.copied;

@@ -44,8 +44,12 @@ TEST(ReprojectFrame, SameCameraIsTheIdentity) {
       EXPECT_EQ(out.colour(x, y), prev.colour(x, y));
       EXPECT_NEAR(out.eyeZ(x, y), 5.0f, 1e-5f);
     }
-  // The gap is a crack inside written pixels: closed from a neighbour.
-  EXPECT_EQ(out.valid(3, 4), 1);
+  // The gap is a crack inside written pixels: closed from a neighbour (2),
+  // unless the caller does not want that pixel.
+  EXPECT_EQ(out.valid(3, 4), 2);
+  Image<std::uint8_t> wanted(kW, kH, 1);
+  reprojectFrame(prev, cam, out, &wanted);
+  EXPECT_EQ(out.valid(3, 4), 0);
   EXPECT_EQ(out.camera.eye, cam.eye);
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Every compose mode × fallback × scene × LOD setting of this study, one walk
-# each, sequentially (timings are ratios within this run). Usage:
-#   run.sh HYBRIDWALK OUTROOT
+# Every compose mode × fallback × scene of this study for the LOD settings in
+# $HW_LODS (paper, rl; default paper), one walk each, sequentially. Usage:
+#   [HW_LODS="paper rl"] run.sh HYBRIDWALK OUTROOT
 set -u
 hw=${1:?hybridwalk binary}
 root=${2:?output root}
@@ -12,7 +12,7 @@ declare -A scene=( [oa_dm5]="--scene q3:oa_dm5 --path $src/paths/oa_dm5.json"
                    [indoor]="--scene indoor"
                    [sharp_turn]="--scene indoor --path $src/paths/indoor_sharp_turn.json" )
 declare -A lod=( [paper]="" [rl]="--planarity region-local --merge-strips --tau-px 0.125" )
-for l in paper rl; do
+for l in ${HW_LODS:-paper}; do
   for s in indoor sharp_turn oa_dm5 forza; do
     for c in overlay depth-merge blend; do
       for f in copy reproject; do
