@@ -58,6 +58,8 @@ struct WalkCli {
   std::string tauS = "2^11";
   std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
   std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
+  std::string fallback = "copy";
+  float blendSoftness = 0.05f;
   std::string texcoords = "projective";
   std::string planarity = keyframe::planarityName(defaults.lod.planarity);
   bool mergeStrips = defaults.lod.mergeStrips;
@@ -124,6 +126,8 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
   if (given("--compose"))
     gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
   if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
+  if (given("--fallback")) gapfill::parseFallback(o.fallback.c_str(), &wo.inBetween.fallback);
+  if (given("--blend-softness")) wo.inBetween.compose.blendSoftness = o.blendSoftness;
   if (given("--subdivide"))
     wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
                           : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
@@ -574,9 +578,23 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       ->capture_default_str();
   walk->add_option("--tau-gradient", o.tauGradS, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", o.compose,
-                   "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
-                   "(per-pixel nearer of the two layers)")
-      ->check(CLI::IsMember({"overlay", "depth-merge"}))
+                   "Composition: overlay (paper: nearer keyframe in front), depth-merge "
+                   "(per-pixel nearer of the two layers) or blend (where both layers see the same "
+                   "surface, a mean weighted toward the keyframe that sees it sharper: closer "
+                   "view direction, less magnified; else the nearer). depth-merge and blend use "
+                   "separate layers whatever --layers says")
+      ->check(CLI::IsMember({"overlay", "depth-merge", "blend"}))
+      ->capture_default_str();
+  walk->add_option("--blend-softness", o.blendSoftness,
+                   "With --compose blend: view penalty difference (radians, or relative "
+                   "magnification) over which the two weights change by a factor e")
+      ->check(CLI::Range(1e-4, 10.0))
+      ->capture_default_str();
+  walk->add_option("--fallback", o.fallback,
+                   "Pixels neither layer covers: copy (paper: the same pixel of the previous "
+                   "frame) or reproject (the previous frame warped to this camera with its "
+                   "depth; the same pixel only where that leaves nothing)")
+      ->check(CLI::IsMember({"copy", "reproject"}))
       ->capture_default_str();
   walk->add_option("--texcoords", o.texcoords,
                    "Warp texture mapping: projective (exact for planar quads) or affine "
@@ -762,7 +780,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
                                         "--merge-strips", "--no-merge-strips", "--tau-gradient", "--depth", "--subdivide",
                                         "--subdivide-cell", "--primitives"}},
-                   {"Composition", {"--compose", "--layers", "--near", "--texcoords",
+                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--layers", "--near", "--texcoords",
                                     "--no-sky-backdrop", "--no-skip-background",
                                     "--no-skip-previous", "--cull-background"}},
                    {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",

@@ -1,5 +1,6 @@
 #include "gapfill/compose.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -92,7 +93,102 @@ Counts dispatchMerge(bool merge, const Inputs& in, float keepFgFactor, std::size
                                                 out.holesBefore.data(), out.valid.data());
 }
 
+// The Blend weight (ComposeMode::Blend). A view's angular penalty is the
+// chord between the unit rays (2 sin(θ/2) ≈ θ at the angles that matter) and
+// its resolution penalty max(0, dKey/dFrame − 1).
+inline float backgroundWeight(const glm::vec3& p, const glm::vec3& offF, const glm::vec3& offB,
+                              float softness) {
+  constexpr float kTiny = 1e-20f;
+  const glm::vec3 aF = p - offF, aB = p - offB;
+  const float dp = std::sqrt(glm::dot(p, p)) + kTiny;
+  const float dF = std::sqrt(glm::dot(aF, aF)) + kTiny;
+  const float dB = std::sqrt(glm::dot(aB, aB)) + kTiny;
+  const glm::vec3 u = p / dp;
+  const float penaltyF = glm::length(u - aF / dF) + std::max(0.0f, dF / dp - 1.0f);
+  const float penaltyB = glm::length(u - aB / dB) + std::max(0.0f, dB / dp - 1.0f);
+  // exp(−pB/s) / (exp(−pF/s) + exp(−pB/s)), clamped so exp cannot overflow.
+  const float t = std::clamp((penaltyB - penaltyF) / softness, -80.0f, 80.0f);
+  return 1.0f / (1.0f + std::exp(t));
+}
+
+inline std::uint8_t mixChannel(std::uint8_t a, std::uint8_t b, float w) {
+  const float v = static_cast<float>(a) + (static_cast<float>(b) - static_cast<float>(a)) * w;
+  return static_cast<std::uint8_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+}
+
+// ComposeMode::Blend with a background. Branchy (the blend is per pixel
+// geometry), but allocation-free.
+Counts composeBlend(const Inputs& in, const ComposeOptions& opt, const BlendViews& views,
+                    Frame& out, int* blended) {
+  const Camera& cam = views.camera;
+  const int w = cam.width, h = cam.height;
+  const glm::vec3 U(cam.right), V(cam.up), W(cam.forward);
+  const glm::vec3 offF(views.foregroundEye - cam.eye), offB(views.backgroundEye - cam.eye);
+  const float fx = static_cast<float>(cam.fx()), fy = static_cast<float>(cam.fy());
+  const float cx = static_cast<float>(cam.cx()), cy = static_cast<float>(cam.cy());
+  const float tol = opt.depthTolerance, soft = opt.blendSoftness;
+  constexpr float kSkyHalf = 0.5f * warp::kSkyEyeZ;
+  int nf = 0, nb = 0, np = 0, nh = 0, nm = 0;
+  for (int y = 0; y < h; ++y) {
+    const glm::vec3 rowDir = W + ((cy - (static_cast<float>(y) + 0.5f)) / fy) * V;
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                            static_cast<std::size_t>(x);
+      const bool cf = in.fgCoverage[i] != 0, cb = in.bgCoverage[i] != 0;
+      Rgba8 c = kUnfilledColour;
+      std::uint8_t hole = 0, valid = 1;
+      if (cf && cb) {
+        const float zf = in.fgZ[i], zb = in.bgZ[i];
+        if (std::abs(zf - zb) <= tol * std::min(zf, zb)) {
+          float wb = 0.5f;
+          if (zf < kSkyHalf) {
+            const glm::vec3 dir = rowDir + ((static_cast<float>(x) + 0.5f - cx) / fx) * U;
+            wb = backgroundWeight(zf * dir, offF, offB, soft);
+          }
+          const Rgba8 a = in.fgColour[i], b = in.bgColour[i];
+          c = Rgba8{mixChannel(a.r, b.r, wb), mixChannel(a.g, b.g, wb), mixChannel(a.b, b.b, wb),
+                    a.a};
+          ++nm;
+          if (wb > 0.5f) ++nb; else ++nf;
+        } else if (zb < zf) {
+          c = in.bgColour[i];
+          ++nb;
+        } else {
+          c = in.fgColour[i];
+          ++nf;
+        }
+      } else if (cf) {
+        c = in.fgColour[i];
+        ++nf;
+      } else if (cb) {
+        c = in.bgColour[i];
+        ++nb;
+      } else {
+        hole = 1;
+        ++nh;
+        if (in.prevColour && in.prevValid[i]) {
+          c = in.prevColour[i];
+          ++np;
+        } else {
+          valid = 0;
+        }
+      }
+      out.colour.data()[i] = c;
+      out.holesBefore.data()[i] = hole;
+      out.valid.data()[i] = valid;
+    }
+  }
+  *blended = nm;
+  return Counts{nf, nb, np, nh};
+}
+
 }  // namespace
+
+float blendBackgroundWeight(const glm::vec3& ray, const glm::vec3& foregroundEyeOffset,
+                            const glm::vec3& backgroundEyeOffset, float softness) {
+  HW_CHECK(softness > 0.0f);
+  return backgroundWeight(ray, foregroundEyeOffset, backgroundEyeOffset, softness);
+}
 
 const char* composeModeName(ComposeMode m) {
   switch (m) {
@@ -100,6 +196,8 @@ const char* composeModeName(ComposeMode m) {
       return "overlay";
     case ComposeMode::DepthMerge:
       return "depth-merge";
+    case ComposeMode::Blend:
+      return "blend";
   }
   return "?";
 }
@@ -107,7 +205,7 @@ const char* composeModeName(ComposeMode m) {
 bool parseComposeMode(const char* s, ComposeMode* out) {
   HW_CHECK(out != nullptr);
   if (s == nullptr) return false;
-  for (ComposeMode m : {ComposeMode::Overlay, ComposeMode::DepthMerge}) {
+  for (ComposeMode m : {ComposeMode::Overlay, ComposeMode::DepthMerge, ComposeMode::Blend}) {
     if (std::strcmp(s, composeModeName(m)) == 0) {
       *out = m;
       return true;
@@ -117,9 +215,11 @@ bool parseComposeMode(const char* s, ComposeMode* out) {
 }
 
 void compose(const warp::Layer& foreground, const warp::Layer* background, const Frame* previous,
-             const ComposeOptions& options, Frame& out) {
+             const ComposeOptions& options, const BlendViews* views, Frame& out) {
   HW_CHECK(previous != &out);
-  const bool merge = options.mode == ComposeMode::DepthMerge && background != nullptr;
+  const bool blend = options.mode == ComposeMode::Blend && background != nullptr;
+  const bool merge =
+      (options.mode == ComposeMode::DepthMerge && background != nullptr) || blend;
   const int w = foreground.colour.width();
   const int h = foreground.colour.height();
   checkSameSize(foreground.colour, foreground.coverage);
@@ -131,6 +231,12 @@ void compose(const warp::Layer& foreground, const warp::Layer* background, const
     HW_CHECK(options.depthTolerance >= 0.0f && options.depthTolerance < 1.0f);
     checkSameSize(foreground.colour, foreground.eyeZ);
     checkSameSize(foreground.colour, background->eyeZ);
+  }
+  if (blend) {
+    HW_CHECK(views != nullptr);
+    HW_CHECK(options.blendSoftness > 0.0f);
+    HW_CHECK_EQ(views->camera.width, w);
+    HW_CHECK_EQ(views->camera.height, h);
   }
   if (previous) {
     checkSameSize(foreground.colour, previous->colour);
@@ -153,7 +259,10 @@ void compose(const warp::Layer& foreground, const warp::Layer* background, const
   const std::size_t n = out.colour.size();
 
   Counts c;
-  if (background) {
+  out.blended = 0;
+  if (blend) {
+    c = composeBlend(in, options, *views, out, &out.blended);
+  } else if (background) {
     c = previous ? dispatchMerge<true, true>(merge, in, keepFgFactor, n, out)
                  : dispatchMerge<true, false>(merge, in, keepFgFactor, n, out);
   } else {

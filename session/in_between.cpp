@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "core/check.h"
 #include "core/timer.h"
 
 namespace hw::session {
@@ -35,6 +36,18 @@ void showKeyframe(const Image<Rgba8>& colour, gapfill::Frame& frame) {
   markNoHoles(frame);
 }
 
+void setKeyframeDepth(const keyframe::Keyframe& kf, gapfill::Frame& frame) {
+  HW_CHECK_EQ(kf.eyeZ.width(), frame.colour.width());
+  HW_CHECK_EQ(kf.eyeZ.height(), frame.colour.height());
+  if (frame.eyeZ.width() != kf.eyeZ.width() || frame.eyeZ.height() != kf.eyeZ.height())
+    frame.eyeZ.resize(kf.eyeZ.width(), kf.eyeZ.height());
+  for (std::size_t p = 0; p < kf.eyeZ.size(); ++p) {
+    const float z = kf.eyeZ.data()[p];
+    frame.eyeZ.data()[p] = z > 0.0f ? z : warp::kSkyEyeZ;
+  }
+  frame.camera = kf.camera;
+}
+
 void InBetweenStep::clearLargeQuad(std::size_t p) {
   for (warp::Layer* l : {&layerA_, &layerB_})
     if (p < l->largeQuad.size()) l->largeQuad.data()[p] = 0;
@@ -52,7 +65,13 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
     st.backgroundDrawn = ps.backgroundDrawn;
     st.foregroundUncovered = ps.uncoveredByForeground;
     Stopwatch sc;
-    if (ps.uncovered == 0 && opt_.skipPrevious) {
+    if (opt_.reprojects()) {
+      gapfill::compose(layerA_, nullptr, nullptr, opt_.compose, frame);
+      frame.fromForeground -= ps.fromBackground;
+      frame.fromBackground = ps.fromBackground;
+      gapfill::layerDepth(layerA_, nullptr, false, frame);
+      HW_TRY(fillFromPrevious(cam, previous, frame, st));
+    } else if (ps.uncovered == 0 && opt_.skipPrevious) {
       // Nothing to fill: the layer image is the frame (buffers swapped, no copy).
       st.previousSkipped = true;
       resizeFrame(frame, cam.width, cam.height);
@@ -77,12 +96,26 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
   } else {
     warp::WarpStats wa, wb;
     HW_TRY(warper.warp(foreground, cam, layerA_, &wa));
-    st.backgroundDrawn = background != nullptr && !(opt_.skipBackground && wa.uncovered == 0);
+    st.backgroundDrawn =
+        background != nullptr && !(opt_.skipsBackground() && wa.uncovered == 0);
     st.foregroundUncovered = wa.uncovered;
     if (st.backgroundDrawn) HW_TRY(warper.warp(*background, cam, layerB_, &wb));
     Stopwatch sc;
-    gapfill::compose(layerA_, st.backgroundDrawn ? &layerB_ : nullptr, previous, opt_.compose,
-                     frame);
+    const warp::Layer* layerB = st.backgroundDrawn ? &layerB_ : nullptr;
+    gapfill::BlendViews views;
+    if (opt_.compose.mode == gapfill::ComposeMode::Blend && layerB) {
+      views.camera = cam;
+      views.foregroundEye = foreground.keyframeCamera().eye;
+      views.backgroundEye = background->keyframeCamera().eye;
+    }
+    if (opt_.reprojects()) {
+      gapfill::compose(layerA_, layerB, nullptr, opt_.compose, &views, frame);
+      gapfill::layerDepth(layerA_, layerB, opt_.compose.mode != gapfill::ComposeMode::Overlay,
+                          frame);
+      HW_TRY(fillFromPrevious(cam, previous, frame, st));
+    } else {
+      gapfill::compose(layerA_, layerB, previous, opt_.compose, &views, frame);
+    }
     st.composeMs = sc.ms();
     st.quadsForeground = wa.quads;
     st.quadsBackground = wb.quads;
@@ -104,6 +137,21 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
   return {};
 }
 
+Status InBetweenStep::fillFromPrevious(const Camera& cam, const gapfill::Frame* previous,
+                                       gapfill::Frame& frame, InBetweenStats& st) {
+  frame.camera = cam;
+  if (previous == nullptr || frame.unfilled == 0) return {};
+  HW_CHECK_EQ(previous->eyeZ.width(), previous->colour.width());
+  HW_CHECK_EQ(previous->eyeZ.height(), previous->colour.height());
+  Stopwatch sw;
+  gapfill::reprojectFrame(*previous, cam, reprojected_, &frame.valid);
+  const gapfill::FillStats fs = gapfill::fillHoles(reprojected_, previous, frame);
+  st.reprojectedPixels = fs.reprojected;
+  st.copiedPixels = fs.copied;
+  st.fallbackMs = sw.ms();
+  return {};
+}
+
 Status InBetweenStep::drawNear(const NearGeometry& near, const Camera& cam,
                                const Image<float>& behindZ, gapfill::Frame& frame,
                                InBetweenStats& st) {
@@ -113,6 +161,7 @@ Status InBetweenStep::drawNear(const NearGeometry& near, const Camera& cam,
                                    nearEyeZ_, nearCovered_, &rs));
   const std::size_t n = nearColour_.size();
   const bool haveZ = behindZ.size() == n;
+  const bool frameZ = frame.eyeZ.size() == n;  // the reprojected fallback's depth
   int holes = 0, unfilled = 0;
   for (std::size_t p = 0; p < n; ++p) {
     if (nearCovered_.data()[p]) {
@@ -121,6 +170,7 @@ Status InBetweenStep::drawNear(const NearGeometry& near, const Camera& cam,
       if (empty || nearEyeZ_.data()[p] < z) {
         clearLargeQuad(p);
         frame.colour.data()[p] = nearColour_.data()[p];
+        if (frameZ) frame.eyeZ.data()[p] = nearEyeZ_.data()[p];
         frame.holesBefore.data()[p] = 0;
         frame.valid.data()[p] = 1;
       }

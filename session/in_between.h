@@ -13,20 +13,25 @@
 #include "core/image.h"
 #include "core/result.h"
 #include "gapfill/compose.h"
+#include "gapfill/fallback.h"
 #include "keyframe/geometry_renderer.h"
+#include "keyframe/keyframe.h"
 #include "warp/layer.h"
 #include "warp/warper.h"
 
 namespace hw::session {
 
 struct InBetweenOptions {
-  gapfill::ComposeOptions compose;  // the paper's overlay, or the depth merge
+  gapfill::ComposeOptions compose;  // the paper's overlay, the depth merge or the blend
   // Both layers in one render target, composed on the GPU by the overlay rule
   // (Warper::warpPair); off = the paper's two layers read back and composed
-  // on the CPU. The depth merge always uses two layers.
+  // on the CPU. The depth merge and the blend always use two layers (the
+  // fused pass draws the background only where the foreground left pixels
+  // empty, so neither could see both): fusedLayers is ignored with them.
   bool fusedLayers = true;
   // No background layer when the foreground covers every pixel; the frame is
-  // bit-identical.
+  // bit-identical. Ignored by the blend, which needs the background wherever
+  // it covers.
   bool skipBackground = true;
   // No previous-frame pass when the layers leave no holes (fused: the frame is
   // the layer image itself); the frame is bit-identical.
@@ -35,11 +40,19 @@ struct InBetweenOptions {
   // keyframes' eyes are drawn as geometry into the frame, composed by depth.
   // 0 = off.
   double nearDistance = 0;
+  // What fills the pixels neither layer covers: the same pixel of the
+  // previous frame (the paper's), or the previous frame reprojected with its
+  // depth (gapfill/fallback.h; frames then carry Frame::eyeZ and camera).
+  gapfill::Fallback fallback = gapfill::Fallback::Copy;
 
   bool fused() const { return fusedLayers && compose.mode == gapfill::ComposeMode::Overlay; }
+  bool skipsBackground() const {
+    return skipBackground && compose.mode != gapfill::ComposeMode::Blend;
+  }
+  bool reprojects() const { return fallback == gapfill::Fallback::Reproject; }
   // Whether the warper must write Layer::eyeZ for these options.
   bool needsEyeZ() const {
-    return compose.mode == gapfill::ComposeMode::DepthMerge || nearDistance > 0;
+    return compose.mode != gapfill::ComposeMode::Overlay || nearDistance > 0 || reprojects();
   }
 };
 
@@ -57,6 +70,11 @@ struct InBetweenStats {
   double cullMs = 0;  // fused, first frame of a pair: deciding the culled quads
   double composeMs = 0;
   double nearMs = -1, nearDrawMs = 0;  // -1: no near geometry this frame
+  // The fallback: holes filled from the reprojected previous frame, and from
+  // its same pixel where reprojection left nothing (Fallback::Reproject);
+  // its time (reprojection + fill), in composeMs too. -1: not run.
+  int reprojectedPixels = 0, copiedPixels = 0;
+  double fallbackMs = -1;
   bool backgroundSkipped() const { return !backgroundDrawn; }
   int quads() const { return quadsForeground + quadsBackground; }
   double warpMs() const { return fused ? warpAMs + warpBMs + readbackMs : warpAMs + warpBMs; }
@@ -81,6 +99,9 @@ class InBetweenStep {
   // nearer: gapfill::chooseForeground) and `background` (null: one layer),
   // then `previous` (null for the first frame; must not be `&frame`) where
   // both miss, then near objects when `near` is given and nearDistance > 0.
+  // With the reprojected fallback `previous` must carry its eyeZ and camera
+  // (a frame of this step, or setKeyframeDepth; checked), and `frame` gets
+  // its own.
   // Errors: GL failures from the warper or the renderer.
   Status draw(warp::Warper& warper, const warp::WarpSource& foreground,
               const warp::WarpSource* background, const Camera& cam,
@@ -103,15 +124,25 @@ class InBetweenStep {
   void clearLargeQuad(std::size_t p);
 
  private:
+  // The reprojected fallback: frame.camera = cam, and the pixels compose()
+  // left unfilled from `previous` reprojected (gapfill::fillHoles).
+  Status fillFromPrevious(const Camera& cam, const gapfill::Frame* previous,
+                          gapfill::Frame& frame, InBetweenStats& st);
+
   InBetweenOptions opt_;
   warp::Layer layerA_, layerB_;
   Image<Rgba8> nearColour_;
   Image<float> nearEyeZ_;
   Image<std::uint8_t> nearCovered_;
+  gapfill::Frame reprojected_;  // the previous frame seen from this frame's camera
 };
 
 // A frame that is a keyframe image, or a geometry render, shown as it is (no
 // holes, nothing older). `colour` may be frame.colour itself (rendered in place).
 void showKeyframe(const Image<Rgba8>& colour, gapfill::Frame& frame);
+// The shown keyframe's depth and camera (for the reprojected fallback of the
+// next frame): frame.eyeZ = its eyeZ, empty pixels (nothing drawn: sky) at
+// warp::kSkyEyeZ. Precondition (checked): frame.colour has its size.
+void setKeyframeDepth(const keyframe::Keyframe& keyframe, gapfill::Frame& frame);
 
 }  // namespace hw::session

@@ -41,6 +41,7 @@ PresetConflict differenceFromPaper(const WalkOptions& o) {
   if (o.inBetween.compose.mode != paper.inBetween.compose.mode)
     return {"--compose", gapfill::composeModeName(paper.inBetween.compose.mode)};
   if (o.inBetween.nearDistance != paper.inBetween.nearDistance) return {"--near", "0"};
+  if (o.inBetween.fallback != paper.inBetween.fallback) return {"--fallback", "copy"};
   if (o.warp.subdivision != paper.warp.subdivision)
     return {"--subdivide", warp::subdivisionName(paper.warp.subdivision)};
   if (o.mesh != paper.mesh) return {"--mesh", keyframe::meshMethodName(paper.mesh)};

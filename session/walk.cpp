@@ -535,6 +535,7 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
         {"corners", st.cornersMs},         {"upload", upload}};
   ms["total"] = kf->renderMs + st.deltaMs + st.subdivideMs + st.cornersMs + upload;
   showKeyframe(kf->keyframe.colour, frame_);
+  if (opt_.inBetween.reprojects()) setKeyframeDepth(kf->keyframe, frame_);
   if (opt_.inBetween.nearDistance > 0) {
     InBetweenStats ns;
     HW_TRY(step_.drawNear(nearGeometry(k0, k0), cam, kf->keyframe.eyeZ, frame_, ns));
@@ -561,6 +562,8 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
     ms["age"] = sa.ms();
     fj["stale_pixels"] = as.stale;
     fj["max_age"] = as.maxAge;
+  } else {
+    fj["stale_pixels"] = 0;
   }
   endFrameWork(ms, FrameKind::Keyframe);
   chooser_.addKeyframeMs(ms["frame"].get<double>());
@@ -669,7 +672,23 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
     fj["max_age"] = as.maxAge;
     s.stalePixels.push_back(as.stale);
     s.maxAges.push_back(as.maxAge);
+  } else {
+    // Without ages: the pixels no keyframe layer (nor near geometry) gave,
+    // the same count as the ages' (age >= 1 exactly there).
+    long long stale = 0;
+    for (std::size_t p = 0; p < frame_.holesBefore.size(); ++p) stale += frame_.holesBefore.data()[p];
+    fj["stale_pixels"] = stale;
+    s.stalePixels.push_back(static_cast<double>(stale));
   }
+  fj["reprojected_pixels"] = opt_.inBetween.reprojects() ? json(st.reprojectedPixels) : json(nullptr);
+  if (opt_.inBetween.reprojects()) s.reprojectedPixels.push_back(st.reprojectedPixels);
+  if (st.fallbackMs >= 0) {
+    ms["fallback"] = st.fallbackMs;
+    s.fallbackMs.push_back(st.fallbackMs);
+  }
+  const bool blend = opt_.inBetween.compose.mode == gapfill::ComposeMode::Blend;
+  fj["blended_pixels"] = blend ? json(frame_.blended) : json(nullptr);
+  if (blend) s.blendedPixels.push_back(frame_.blended);
   recorder_.counts.backgroundSkips += st.backgroundSkipped();
   recorder_.counts.previousSkips += st.previousSkipped;
   fj["is_keyframe"] = false;
@@ -902,6 +921,13 @@ void WalkLoop::summariseLod(json& s) const {
   s["sky_backdrop"] = opt_.warp.skyBackdrop;
   s["layers"] = ib.fused() ? "fused" : "separate";
   s["near_distance"] = ib.nearDistance;
+  s["fallback"] = gapfill::fallbackName(ib.fallback);
+  s["reprojected_pixels"] = seriesStats(r.reprojectedPixels);
+  s["fallback_ms"] = seriesStats(r.fallbackMs);
+  s["blend_softness"] = ib.compose.mode == gapfill::ComposeMode::Blend
+                            ? json(ib.compose.blendSoftness)
+                            : json(nullptr);
+  s["blended_pixels"] = seriesStats(r.blendedPixels);
   s["subdivision"] = warp::subdivisionName(opt_.warp.subdivision);
   s["primitives"] = warp::primitivesName(opt_.warp.primitives);
   s["points_per_keyframe"] = seriesStats(r.pointsPerKeyframe);  // 1×1 leaves as points

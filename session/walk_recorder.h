@@ -61,7 +61,8 @@ class WalkRecorder {
         subdividedQuads, pointsPerKeyframe, foregroundUncovered, backgroundCulled,
         psnrLargeQuads, largeQuadPixels, nearMs, stalePixels, maxAges, refreshedPixels,
         refreshMs, frameIntervalMs, inBetweenIntervalMs, frameMs, inBetweenFrameMs, stallMs,
-        sliceMs, speedup, refreshPredictedOverMeasured;
+        sliceMs, speedup, refreshPredictedOverMeasured, reprojectedPixels, blendedPixels,
+        fallbackMs;
   } series;
   struct Counts {
     int backgroundSkips = 0, previousSkips = 0, framesRefreshed = 0, budgetOverruns = 0,

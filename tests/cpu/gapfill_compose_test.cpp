@@ -239,8 +239,122 @@ TEST(Compose, SecondCallDoesNotReallocate) {
   EXPECT_EQ(next.colour(15, 3), kBg);
 }
 
+// Blend on a 3×3 frame whose centre pixel looks straight down W (the default
+// camera: eye at the origin, W = −z); both layers cover every pixel.
+struct BlendCase {
+  warp::Layer fg = makeLayer(3, 3, kFg);
+  warp::Layer bg = makeLayer(3, 3, kBg);
+  BlendViews views;
+  BlendCase(float zFg, float zBg, glm::dvec3 fgEye, glm::dvec3 bgEye) {
+    coverColumns(fg, 0, 3, zFg);
+    coverColumns(bg, 0, 3, zBg);
+    views.camera.width = views.camera.height = 3;
+    views.foregroundEye = fgEye;
+    views.backgroundEye = bgEye;
+  }
+  Frame run(float softness = 0.05f) {
+    ComposeOptions o;
+    o.mode = ComposeMode::Blend;
+    o.blendSoftness = softness;
+    Frame out;
+    compose(fg, &bg, nullptr, o, &views, out);
+    return out;
+  }
+};
+
+TEST(ComposeBlend, SymmetricViewsGiveTheMean) {
+  BlendCase c(5.0f, 5.0f, {-1, 0, 0}, {1, 0, 0});
+  const Frame out = c.run();
+  EXPECT_EQ(out.colour(1, 1), (Rgba8{100, 100, 0, 255}));
+  EXPECT_EQ(out.blended, 9);
+  EXPECT_EQ(out.fromForeground + out.fromBackground, 9);
+  EXPECT_EQ(out.unfilled, 0);
+}
+
+TEST(ComposeBlend, TheViewFromTheFramesEyeDominates) {
+  // Foreground keyframe at the frame's eye: no penalty; the background one
+  // 1 unit aside sees the point at 5 units 0.2 rad off: weight
+  // 1/(1 + e^(0.2/0.05)) ≈ 0.02.
+  BlendCase c(5.0f, 5.0f, {0, 0, 0}, {1, 0, 0});
+  const Frame out = c.run();
+  EXPECT_GE(out.colour(1, 1).r, 194);
+  EXPECT_LE(out.colour(1, 1).g, 6);
+  EXPECT_GT(out.colour(1, 1).g, 0);  // blended, not picked
+  EXPECT_EQ(out.fromForeground, 9);
+  // Roles swapped: the background now has the frame's view.
+  BlendCase d(5.0f, 5.0f, {1, 0, 0}, {0, 0, 0});
+  EXPECT_GE(d.run().colour(1, 1).g, 194);
+}
+
+TEST(ComposeBlend, WeightFallsWithAngleAndMagnification) {
+  const glm::vec3 ray{0, 0, -5};
+  float last = 0.5f;
+  for (float off : {0.25f, 0.5f, 1.0f, 2.0f}) {
+    const float w = blendBackgroundWeight(ray, {0, 0, 0}, {off, 0, 0}, 0.05f);
+    EXPECT_LT(w, last) << off;
+    last = w;
+  }
+  // On the ray, farther from the point = more magnified = less weight; a
+  // keyframe nearer to the point than the frame is not penalised.
+  EXPECT_LT(blendBackgroundWeight(ray, {0, 0, 0}, {0, 0, 2}, 0.05f), 0.01f);
+  EXPECT_GT(blendBackgroundWeight(ray, {0, 0, 2}, {0, 0, 0}, 0.05f), 0.99f);
+  EXPECT_FLOAT_EQ(blendBackgroundWeight(ray, {0, 0, -1}, {0, 0, -2}, 0.05f), 0.5f);
+  // Softer = closer to the mean.
+  EXPECT_GT(blendBackgroundWeight(ray, {0, 0, 0}, {1, 0, 0}, 0.5f),
+            blendBackgroundWeight(ray, {0, 0, 0}, {1, 0, 0}, 0.05f));
+}
+
+TEST(ComposeBlend, InconsistentDepthTakesTheNearerAndSkyIsMixedEvenly) {
+  BlendCase nearBg(10.0f, 5.0f, {0, 0, 0}, {1, 0, 0});
+  Frame out = nearBg.run();
+  EXPECT_EQ(out.colour(1, 1), kBg);
+  EXPECT_EQ(out.blended, 0);
+  EXPECT_EQ(out.fromBackground, 9);
+  BlendCase nearFg(5.0f, 10.0f, {1, 0, 0}, {0, 0, 0});
+  out = nearFg.run();
+  EXPECT_EQ(out.colour(1, 1), kFg);
+  BlendCase sky(warp::kSkyEyeZ, warp::kSkyEyeZ, {0, 0, 0}, {50, 0, 0});
+  out = sky.run();
+  EXPECT_EQ(out.colour(1, 1), (Rgba8{100, 100, 0, 255}));
+  BlendCase skyBg(5.0f, warp::kSkyEyeZ, {0, 0, 0}, {1, 0, 0});
+  EXPECT_EQ(skyBg.run().colour(0, 0), kFg);
+}
+
+TEST(ComposeBlend, OneLayerPixelsHolesAndCountsAsOtherModes) {
+  warp::Layer fg = makeLayer(10, 3, kFg);
+  warp::Layer bg = makeLayer(10, 3, kBg);
+  coverColumns(fg, 0, 6, 5.0f);
+  coverColumns(bg, 3, 9, 5.0f);
+  Frame prev = makePrevious(10, 3, kPrev);
+  BlendViews views;
+  views.camera.width = 10;
+  views.camera.height = 3;
+  views.foregroundEye = {-0.5, 0, 0};
+  views.backgroundEye = {0.5, 0, 0};
+  ComposeOptions o;
+  o.mode = ComposeMode::Blend;
+  Frame out;
+  compose(fg, &bg, &prev, o, &views, out);
+  EXPECT_EQ(out.blended, 9);  // columns 3..5
+  EXPECT_EQ(out.colour(0, 0), kFg);
+  EXPECT_EQ(out.colour(7, 1), kBg);
+  EXPECT_EQ(out.colour(9, 2), kPrev);
+  EXPECT_EQ(out.fromPrevious, 3);
+  EXPECT_EQ(out.fromForeground + out.fromBackground + out.fromPrevious + out.unfilled, 30);
+  EXPECT_EQ(out.holesBefore(9, 0), 1);
+  const Rgba8 m = out.colour(4, 1);
+  EXPECT_GT(m.r, 0);
+  EXPECT_GT(m.g, 0);
+  EXPECT_NEAR(int(m.r) + int(m.g), 200, 1);
+  // Without a background the blend is the overlay.
+  Frame one;
+  compose(fg, nullptr, &prev, o, nullptr, one);
+  EXPECT_EQ(one.fromForeground, 18);
+  EXPECT_EQ(one.blended, 0);
+}
+
 TEST(Compose, ModeNamesRoundTrip) {
-  for (ComposeMode m : {ComposeMode::Overlay, ComposeMode::DepthMerge}) {
+  for (ComposeMode m : {ComposeMode::Overlay, ComposeMode::DepthMerge, ComposeMode::Blend}) {
     ComposeMode parsed{};
     ASSERT_TRUE(parseComposeMode(composeModeName(m), &parsed));
     EXPECT_EQ(parsed, m);
@@ -292,6 +406,13 @@ TEST_F(ComposeDeathTest, PreconditionsAreChecked) {
   noDepth.eyeZ = Image<float>();
   EXPECT_DEATH(compose(fg, &noDepth, nullptr, ComposeOptions{ComposeMode::DepthMerge, 0.02f}, out),
                "CHECK failed");
+  warp::Layer bg4 = makeLayer(4, 4, kBg);
+  EXPECT_DEATH(compose(fg, &bg4, nullptr, ComposeOptions{ComposeMode::Blend, 0.02f}, out),
+               "CHECK failed");  // no views
+  BlendViews wrongSize;  // a 512×512 camera for 4×4 layers
+  EXPECT_DEATH(
+      compose(fg, &bg4, nullptr, ComposeOptions{ComposeMode::Blend, 0.02f}, &wrongSize, out),
+      "CHECK failed");
 }
 
 }  // namespace

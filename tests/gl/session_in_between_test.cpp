@@ -40,7 +40,8 @@ TEST_P(InBetweenStepTest, GivesTheWalksFrameBitForBit) {
   wo.strips = 0;
   wo.progress = false;
   wo.outDir = tempDir(std::to_string(static_cast<int>(ib.compose.mode)) +
-                      (ib.fusedLayers ? "f" : "s") + (ib.nearDistance > 0 ? "n" : ""));
+                      (ib.fusedLayers ? "f" : "s") + (ib.nearDistance > 0 ? "n" : "") +
+                      (ib.reprojects() ? "r" : ""));
   auto walk = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(walk.ok()) << walk.error().message;
 
@@ -71,6 +72,7 @@ TEST_P(InBetweenStepTest, GivesTheWalksFrameBitForBit) {
   const int fg = gapfill::chooseForeground(cam.eye, kf[0].camera.eye, kf[1].camera.eye);
   gapfill::Frame previous, frame;
   session::showKeyframe(kf[0].colour, previous);
+  if (ib.reprojects()) session::setKeyframeDepth(kf[0], previous);
   session::InBetweenStep step(ib);
   session::NearGeometry near;
   near.renderer = renderer->get();
@@ -103,11 +105,13 @@ TEST_P(InBetweenStepTest, GivesTheWalksFrameBitForBit) {
   std::filesystem::remove_all(wo.outDir);
 }
 
-session::InBetweenOptions options(gapfill::ComposeMode mode, bool fused, double near) {
+session::InBetweenOptions options(gapfill::ComposeMode mode, bool fused, double near,
+                                  gapfill::Fallback fallback = gapfill::Fallback::Copy) {
   session::InBetweenOptions o;
   o.compose.mode = mode;
   o.fusedLayers = fused;
   o.nearDistance = near;
+  o.fallback = fallback;
   return o;
 }
 
@@ -116,7 +120,11 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(options(gapfill::ComposeMode::Overlay, true, 0),
                       options(gapfill::ComposeMode::Overlay, false, 0),
                       options(gapfill::ComposeMode::DepthMerge, false, 0),
-                      options(gapfill::ComposeMode::Overlay, true, 1.5)));
+                      options(gapfill::ComposeMode::Overlay, true, 1.5),
+                      options(gapfill::ComposeMode::Blend, false, 0),
+                      options(gapfill::ComposeMode::Overlay, true, 0, gapfill::Fallback::Reproject),
+                      options(gapfill::ComposeMode::Blend, false, 1.5,
+                              gapfill::Fallback::Reproject)));
 
 }  // namespace
 }  // namespace hw
