@@ -27,7 +27,7 @@ struct RenderOptions {
   // Cull, and choose near geometry, by cluster; false = by whole mesh, as
   // before the scene had clusters (for comparisons).
   bool clusterCulling = true;
-  scenes::ClusterOptions clusters;  // how the scene is cut into clusters at create
+  scenes::ClusterOptions clusters{};  // how the scene is cut into clusters at create
   // renderKeyframe leaves out the clusters whose bounds come within this
   // distance (scene units) of the keyframe's eye: objects near the viewpoint
   // float in warped frames, so they are drawn directly instead (Zheng et al.
