@@ -155,7 +155,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
         idx.push_back(base + i);
       }
       verts.insert(verts.end(), m.vertices.begin(), m.vertices.end());
-      items_.push_back(d);
+      if (d.clusterBegin != d.clusterEnd) items_.push_back(d);  // no whole triangle: nothing to draw
     }
     glGenVertexArrays(1, &vao_);
     glBindVertexArray(vao_);
