@@ -2,8 +2,11 @@
 // GeometryRenderer: draws a Scene at a camera with OpenGL into colour + depth
 // and hands back a Keyframe (Zheng et al. 1999 §1.1). It is both the keyframe
 // source and the reference/baseline renderer, so it is a fair one: one VBO/IBO
-// for the scene, per-mesh frustum culling, meshes sorted by material, no
-// per-frame allocation. Needs a current GL context (core/gl/context.h).
+// for the scene, frustum culling by mesh and then by cluster (scenes/clusters.h),
+// meshes sorted by material, no per-frame allocation. Culling never changes
+// the image: clusters are runs of a mesh's triangles drawn in the mesh's own
+// order, and only those with no fragment in the view are left out. Needs a
+// current GL context (core/gl/context.h).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -13,6 +16,7 @@
 #include "core/result.h"
 #include "keyframe/keyframe.h"
 #include "keyframe/quad_mesh.h"
+#include "scenes/clusters.h"
 #include "scenes/scene.h"
 
 namespace hw::keyframe {
@@ -20,18 +24,24 @@ namespace hw::keyframe {
 struct RenderOptions {
   DepthMode depthMode = kDefaultDepthMode;  // fixed24 = the paper's 24-bit z-buffer
   bool frustumCulling = true;
-  // renderKeyframe leaves out meshes whose bounds come within this distance
-  // (scene units) of the keyframe's eye: objects near the viewpoint float in
-  // warped frames, so they are drawn directly instead (Zheng et al. 1999 §3;
-  // renderNear). 0 = keyframes hold everything (the paper's pipeline).
+  // Cull, and choose near geometry, by cluster; false = by whole mesh, as
+  // before the scene had clusters (for comparisons).
+  bool clusterCulling = true;
+  scenes::ClusterOptions clusters{};  // how the scene is cut into clusters at create
+  // renderKeyframe leaves out the clusters whose bounds come within this
+  // distance (scene units) of the keyframe's eye: objects near the viewpoint
+  // float in warped frames, so they are drawn directly instead (Zheng et al.
+  // 1999 §3; renderNear). 0 = keyframes hold everything (the paper's pipeline).
   double keyframeExcludeNear = 0;
 };
 
 struct RenderStats {
   double drawMs = 0;      // submit + glFinish
   double readbackMs = 0;  // colour (+ depth) readback and conversion
-  std::size_t meshesDrawn = 0;
+  std::size_t meshesDrawn = 0;    // meshes with at least one triangle drawn
   std::size_t trianglesDrawn = 0;
+  std::size_t clustersDrawn = 0;  // clusterCulling off: those of the meshes drawn
+  std::size_t drawCalls = 0;      // runs of consecutive clusters, one draw each
 };
 
 class GeometryRenderer {
@@ -53,10 +63,11 @@ class GeometryRenderer {
   // rect-sized (reused). Error for an empty rectangle or one outside the image.
   virtual Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
                                   RenderStats* stats = nullptr) = 0;
-  // Only the meshes whose bounds come within `distance` of one of `eyes`
-  // (those renderKeyframe left out of the keyframes at those eyes), drawn at
-  // `camera`: colour, eye z (0 where empty) and coverage, to be composed into
-  // an in-between frame by depth.
+  // Only the clusters whose bounds come within `distance` of one of `eyes`
+  // (with the keyframes' eyes among them: what renderKeyframe left out of
+  // those keyframes), drawn at `camera`: colour, eye z (0 where empty) and
+  // coverage, to be composed into an in-between frame by depth. Its cost
+  // follows the triangles of those clusters, not the size of their meshes.
   virtual Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount,
                             double distance, Image<Rgba8>& colour, Image<float>& eyeZ,
                             Image<std::uint8_t>& covered, RenderStats* stats = nullptr) = 0;
@@ -68,6 +79,7 @@ class GeometryRenderer {
   // Renderers without pieces ignore it.
   virtual void setFlushEvery(std::size_t /*triangles*/, std::function<void()> /*afterFlush*/) {}
   virtual std::size_t sceneTriangles() const = 0;
+  virtual std::size_t sceneClusters() const = 0;
   virtual const RenderOptions& options() const = 0;
 };
 

@@ -157,8 +157,13 @@ Status InBetweenStep::drawNear(const NearGeometry& near, const Camera& cam,
                                InBetweenStats& st) {
   keyframe::RenderStats rs;
   Stopwatch sw;
-  HW_TRY(near.renderer->renderNear(cam, near.eyes, near.eyeCount, opt_.nearDistance, nearColour_,
-                                   nearEyeZ_, nearCovered_, &rs));
+  // The keyframes' eyes (what they left out) and the frame's own (NearGeometry).
+  glm::dvec3 eyes[3];
+  int eyeCount = 0;
+  for (int k = 0; k < near.eyeCount && k < 2; ++k) eyes[eyeCount++] = near.eyes[k];
+  if (eyeCount == 0 || eyes[0] != cam.eye) eyes[eyeCount++] = cam.eye;
+  HW_TRY(near.renderer->renderNear(cam, eyes, eyeCount, opt_.nearDistance, nearColour_, nearEyeZ_,
+                                   nearCovered_, &rs));
   const std::size_t n = nearColour_.size();
   const bool haveZ = behindZ.size() == n;
   const bool frameZ = frame.eyeZ.size() == n;  // the reprojected fallback's depth

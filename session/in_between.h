@@ -36,9 +36,9 @@ struct InBetweenOptions {
   // No previous-frame pass when the layers leave no holes (fused: the frame is
   // the layer image itself); the frame is bit-identical.
   bool skipPrevious = true;
-  // Near objects (§3): meshes within this distance (scene units) of the
-  // keyframes' eyes are drawn as geometry into the frame, composed by depth.
-  // 0 = off.
+  // Near objects (§3): the scene clusters within this distance (scene units)
+  // of the frame's eye or of its keyframes' eyes are drawn as geometry into
+  // the frame, composed by depth (NearGeometry). 0 = off.
   double nearDistance = 0;
   // What fills the pixels neither layer covers: the same pixel of the
   // previous frame (the paper's), or the previous frame reprojected with its
@@ -81,7 +81,15 @@ struct InBetweenStats {
 };
 
 // The near objects of a frame: drawn by `renderer` at the frame's camera, the
-// meshes within the options' distance of any of `eyes` (the keyframes').
+// scene clusters (scenes/clusters.h) within the options' distance D of the
+// frame's own eye or of any of `eyes` (the eyes of the keyframes it warps).
+// The rule that keeps every frame whole: a keyframe leaves out the clusters
+// within D of its own eye (RenderOptions::keyframeExcludeNear = D), and every
+// frame that warps it draws them, since its eye is among `eyes`; the clusters
+// within D of the frame's eye are drawn too (its keyframes may hold them as
+// well: drawn in front by depth, they replace the magnified warped view of
+// what is right before the viewer). So the cost follows the triangles within
+// D of three points, not the size of the meshes they belong to.
 struct NearGeometry {
   keyframe::GeometryRenderer* renderer = nullptr;
   glm::dvec3 eyes[2];

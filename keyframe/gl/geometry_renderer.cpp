@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -56,11 +57,20 @@ void main() {
 }
 )";
 
-struct DrawItem {
+// A run of triangles in the index buffer with its bounds: a mesh, or one of
+// its clusters.
+struct Range {
   std::size_t firstIndex = 0, indexCount = 0;
-  int material = 0;
   glm::vec3 lo{0.0f}, hi{0.0f};
 };
+
+struct DrawItem {
+  Range all;                                   // bounds: the union of its clusters'
+  std::size_t clusterBegin = 0, clusterEnd = 0;  // into GlGeometryRenderer::clusters_
+  int material = 0;
+};
+
+enum class Side { Outside, Straddles, Inside };
 
 class GlGeometryRenderer final : public GeometryRenderer {
  public:
@@ -99,6 +109,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
     std::vector<std::uint32_t> idx;
     verts.reserve(nv);
     idx.reserve(ni);
+    // Clusters come mesh by mesh, in order: the first of each mesh.
+    const std::vector<scenes::Cluster> cs = scenes::clusterScene(scene, options.clusters);
+    std::vector<std::size_t> firstCluster(scene.meshes.size() + 1, cs.size());
+    for (std::size_t c = cs.size(); c-- > 0;) firstCluster[cs[c].mesh] = c;
+    for (std::size_t m = scene.meshes.size(); m-- > 0;)
+      firstCluster[m] = std::min(firstCluster[m], firstCluster[m + 1]);
     std::vector<std::size_t> order(scene.meshes.size());
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -112,11 +128,24 @@ class GlGeometryRenderer final : public GeometryRenderer {
                          std::to_string(m.material) + " but the scene has " +
                          std::to_string(materials_.size()));
       DrawItem d;
-      d.firstIndex = idx.size();
-      d.indexCount = m.indices.size();
+      d.all.firstIndex = idx.size();
+      d.all.indexCount = m.indices.size() / 3 * 3;
       d.material = m.material;
-      d.lo = m.boundsMin;
-      d.hi = m.boundsMax;
+      d.clusterBegin = clusters_.size();
+      d.all.lo = glm::vec3(std::numeric_limits<float>::max());
+      d.all.hi = glm::vec3(-std::numeric_limits<float>::max());
+      for (std::size_t c = firstCluster[k]; c < firstCluster[k + 1]; ++c) {
+        Range r;
+        r.firstIndex = d.all.firstIndex + 3 * std::size_t(cs[c].firstTriangle);
+        r.indexCount = 3 * std::size_t(cs[c].triangleCount);
+        r.lo = cs[c].boundsMin;
+        r.hi = cs[c].boundsMax;
+        d.all.lo = glm::min(d.all.lo, r.lo);
+        d.all.hi = glm::max(d.all.hi, r.hi);
+        clusters_.push_back(r);
+      }
+      d.clusterEnd = clusters_.size();
+      if (d.clusterBegin == d.clusterEnd) d.all.lo = d.all.hi = glm::vec3(0.0f);
       const auto base = static_cast<std::uint32_t>(verts.size());
       for (std::uint32_t i : m.indices) {
         if (i >= m.vertices.size())
@@ -126,7 +155,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
         idx.push_back(base + i);
       }
       verts.insert(verts.end(), m.vertices.begin(), m.vertices.end());
-      items_.push_back(d);
+      if (d.clusterBegin != d.clusterEnd) items_.push_back(d);  // no whole triangle: nothing to draw
     }
     glGenVertexArrays(1, &vao_);
     glBindVertexArray(vao_);
@@ -231,6 +260,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
   }
 
   std::size_t sceneTriangles() const override { return triangles_; }
+  std::size_t sceneClusters() const override { return clusters_.size(); }
   const RenderOptions& options() const override { return options_; }
 
  private:
@@ -246,14 +276,18 @@ class GlGeometryRenderer final : public GeometryRenderer {
   }
 
   // Frustum planes from a double view-projection (Gribb-Hartmann), tested
-  // against each mesh's AABB (p-vertex test).
-  static bool aabbOutside(const std::array<glm::dvec4, 6>& planes, const glm::vec3& lo,
-                          const glm::vec3& hi) {
+  // against an AABB: outside one plane (p-vertex test), or inside all
+  // (n-vertex test), or neither.
+  static Side classify(const std::array<glm::dvec4, 6>& planes, const glm::vec3& lo,
+                       const glm::vec3& hi) {
+    Side s = Side::Inside;
     for (const auto& p : planes) {
       const glm::dvec3 v(p.x >= 0 ? hi.x : lo.x, p.y >= 0 ? hi.y : lo.y, p.z >= 0 ? hi.z : lo.z);
-      if (p.x * v.x + p.y * v.y + p.z * v.z + p.w < 0) return true;
+      if (p.x * v.x + p.y * v.y + p.z * v.z + p.w < 0) return Side::Outside;
+      const glm::dvec3 n(p.x >= 0 ? lo.x : hi.x, p.y >= 0 ? lo.y : hi.y, p.z >= 0 ? lo.z : hi.z);
+      if (p.x * n.x + p.y * n.y + p.z * n.z + p.w < 0) s = Side::Straddles;
     }
-    return false;
+    return s;
   }
 
   struct NearFilter {
@@ -261,13 +295,10 @@ class GlGeometryRenderer final : public GeometryRenderer {
     const glm::dvec3* eyes;
     int eyeCount;
     double distance;
-    // Whether the mesh bounds [lo, hi] come within `distance` of an eye.
+    // Whether the bounds [lo, hi] come within `distance` of an eye.
     bool near(const glm::vec3& lo, const glm::vec3& hi) const {
-      for (int k = 0; k < eyeCount; ++k) {
-        const glm::dvec3 e = eyes[k];
-        const glm::dvec3 d = glm::max(glm::max(glm::dvec3(lo) - e, e - glm::dvec3(hi)), glm::dvec3(0.0));
-        if (glm::dot(d, d) < distance * distance) return true;
-      }
+      for (int k = 0; k < eyeCount; ++k)
+        if (scenes::boxWithin(lo, hi, eyes[k], distance)) return true;
       return false;
     }
     bool skip(const glm::vec3& lo, const glm::vec3& hi) const {
@@ -304,8 +335,18 @@ class GlGeometryRenderer final : public GeometryRenderer {
     planes[1] = t[3] - t[0];
     planes[2] = t[3] + t[1];
     planes[3] = t[3] - t[1];
-    planes[4] = options_.depthMode == DepthMode::Float32Reversed ? t[3] - t[2] : t[3] + t[2];
-    planes[5] = options_.depthMode == DepthMode::Float32Reversed ? t[2] : t[3] - t[2];
+    // Near and far are moved out by a hair (kDepthSlack of w in clip space)
+    // so that a box the double test puts just outside, but that the float
+    // transform puts just inside, is drawn: culling must leave the image as
+    // it is.
+    constexpr double kDepthSlack = 1e-5;
+    if (options_.depthMode == DepthMode::Float32Reversed) {
+      planes[4] = (1.0 + kDepthSlack) * t[3] - t[2];
+      planes[5] = t[2] + kDepthSlack * t[3];
+    } else {
+      planes[4] = t[2] + (1.0 + kDepthSlack) * t[3];
+      planes[5] = (1.0 + kDepthSlack) * t[3] - t[2];
+    }
     if (rect) {
       // The rectangle's sub-frustum, grown by one pixel so that rounding never
       // culls a mesh with a fragment in it: x_ndc in [l, r], y_ndc in [b, t].
@@ -325,38 +366,47 @@ class GlGeometryRenderer final : public GeometryRenderer {
     glBindVertexArray(vao_);
     glDisable(GL_BLEND);
     glFrontFace(GL_CCW);
-    int bound = -1;
-    std::size_t sinceFlush = 0;
+    bound_ = -1;
+    lastItem_ = nullptr;
+    sinceFlush_ = 0;
     for (const DrawItem& d : items_) {
-      if (options_.frustumCulling && aabbOutside(planes, d.lo, d.hi)) continue;
-      if (filter && filter->skip(d.lo, d.hi)) continue;
-      if (d.material != bound) {
-        const scenes::Material& m = materials_[static_cast<std::size_t>(d.material)];
-        const bool hasTex = m.texture >= 0 && m.texture < static_cast<int>(textures_.size());
-        glUniform1i(uHasTex_, hasTex ? 1 : 0);
-        if (hasTex) glBindTexture(GL_TEXTURE_2D, textures_[static_cast<std::size_t>(m.texture)]);
-        glUniform4f(uBase_, m.baseColour.r, m.baseColour.g, m.baseColour.b, m.baseColour.a);
-        glUniform1i(uAlphaTest_, m.alphaTest ? 1 : 0);
-        glUniform1f(uCutoff_, m.alphaCutoff);
-        glUniform1i(uUnlit_, m.unlit ? 1 : 0);
-        if (m.twoSided) {
-          glDisable(GL_CULL_FACE);
-        } else {
-          glEnable(GL_CULL_FACE);
-          glCullFace(GL_BACK);
+      Side side = Side::Inside;
+      if (options_.frustumCulling) {
+        side = classify(planes, d.all.lo, d.all.hi);
+        if (side == Side::Outside) continue;
+      }
+      // A cluster's bounds lie within its mesh's: a mesh not near an eye has
+      // no cluster near one.
+      const bool meshNear = filter && filter->near(d.all.lo, d.all.hi);
+      if (filter && !meshNear && filter->mode == NearFilter::Only) continue;
+      if (!options_.clusterCulling) {
+        if (filter && filter->skip(d.all.lo, d.all.hi)) continue;
+        drawRange(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin, stats);
+        continue;
+      }
+      if (side == Side::Inside && !meshNear) {
+        drawRange(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin, stats);
+        continue;
+      }
+      // Consecutive clusters drawn go out as one draw, so the triangles keep
+      // the mesh's order.
+      std::size_t runFirst = 0, runCount = 0, runClusters = 0;
+      for (std::size_t c = d.clusterBegin; c < d.clusterEnd; ++c) {
+        const Range& r = clusters_[c];
+        if ((side != Side::Inside && classify(planes, r.lo, r.hi) == Side::Outside) ||
+            (meshNear && filter->skip(r.lo, r.hi)))
+          continue;
+        if (runCount > 0 && runFirst + runCount == r.firstIndex) {
+          runCount += r.indexCount;
+          ++runClusters;
+          continue;
         }
-        bound = d.material;
+        if (runCount > 0) drawRange(d, runFirst, runCount, runClusters, stats);
+        runFirst = r.firstIndex;
+        runCount = r.indexCount;
+        runClusters = 1;
       }
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
-                     reinterpret_cast<void*>(d.firstIndex * sizeof(std::uint32_t)));
-      ++stats.meshesDrawn;
-      stats.trianglesDrawn += d.indexCount / 3;
-      sinceFlush += d.indexCount / 3;
-      if (flushEvery_ > 0 && sinceFlush >= flushEvery_) {
-        glFlush();
-        sinceFlush = 0;
-        if (afterFlush_) afterFlush_();
-      }
+      if (runCount > 0) drawRange(d, runFirst, runCount, runClusters, stats);
     }
     glBindVertexArray(0);
     if (rect) glDisable(GL_SCISSOR_TEST);
@@ -365,7 +415,46 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return {};
   }
 
+  // One draw of `indexCount` indices from `firstIndex`, part of item `d`
+  // (its material bound first if another one is).
+  void drawRange(const DrawItem& d, std::size_t firstIndex, std::size_t indexCount,
+                 std::size_t clusters, RenderStats& stats) {
+    if (d.material != bound_) {
+      const scenes::Material& m = materials_[static_cast<std::size_t>(d.material)];
+      const bool hasTex = m.texture >= 0 && m.texture < static_cast<int>(textures_.size());
+      glUniform1i(uHasTex_, hasTex ? 1 : 0);
+      if (hasTex) glBindTexture(GL_TEXTURE_2D, textures_[static_cast<std::size_t>(m.texture)]);
+      glUniform4f(uBase_, m.baseColour.r, m.baseColour.g, m.baseColour.b, m.baseColour.a);
+      glUniform1i(uAlphaTest_, m.alphaTest ? 1 : 0);
+      glUniform1f(uCutoff_, m.alphaCutoff);
+      glUniform1i(uUnlit_, m.unlit ? 1 : 0);
+      if (m.twoSided) {
+        glDisable(GL_CULL_FACE);
+      } else {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+      }
+      bound_ = d.material;
+    }
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount), GL_UNSIGNED_INT,
+                   reinterpret_cast<void*>(firstIndex * sizeof(std::uint32_t)));
+    if (&d != lastItem_) ++stats.meshesDrawn;
+    lastItem_ = &d;
+    ++stats.drawCalls;
+    stats.clustersDrawn += clusters;
+    stats.trianglesDrawn += indexCount / 3;
+    sinceFlush_ += indexCount / 3;
+    if (flushEvery_ > 0 && sinceFlush_ >= flushEvery_) {
+      glFlush();
+      sinceFlush_ = 0;
+      if (afterFlush_) afterFlush_();
+    }
+  }
+
   RenderOptions options_;
+  int bound_ = -1;                       // draw(): the material bound
+  const DrawItem* lastItem_ = nullptr;   // draw(): the item of the last draw
+  std::size_t sinceFlush_ = 0;           // draw(): triangles since the last flush
   std::size_t flushEvery_ = 0;
   std::function<void()> afterFlush_;
   std::vector<scenes::Material> materials_;
@@ -377,6 +466,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
   GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
   std::vector<GLuint> textures_;
   std::vector<DrawItem> items_;
+  std::vector<Range> clusters_;  // each item's clusters in its index range, in order
   gl::Framebuffer fbo_;
   Image<double> nearZPrime_;  // renderNear's scratch
 };

@@ -67,6 +67,7 @@ class RayCastRenderer : public GeometryRenderer {
     return makeError("not drawn by the ray-cast test renderer");
   }
   std::size_t sceneTriangles() const override { return 0; }
+  std::size_t sceneClusters() const override { return 0; }
   const RenderOptions& options() const override { return options_; }
 
   int renders = 0;
