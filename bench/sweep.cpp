@@ -261,9 +261,10 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
     if (log) HW_TRY(log->append(rows.back()));
   }
   if (opt.progress)
-    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%40s\n", total - resumed, all.ms() / 1000.0,
+    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%s%40s\n", total - resumed, all.ms() / 1000.0,
                  resumed > 0 ? (", " + std::to_string(resumed) + " kept from the interrupted run").c_str()
-                             : "");
+                             : "",
+                 "");
   return rows;
 }
 
