@@ -486,6 +486,7 @@ struct Layout {
   Axis x, y;
   int titleScale = kTextScale;
   int legendRight = 0;  // pixels kept right of the plot area for a legend beside it
+  int legendBelow = 0;  // pixels kept at the bottom for a legend below the axis labels
 };
 
 // Pixel position of the centre of data coordinate t ∈ [0, 1].
@@ -528,6 +529,7 @@ PlotRect rectFromMargins(const Layout& l, const PlotOptions& o) {
   int right = kPad + 8;
   if (!l.x.labels.empty()) right = std::max(right, textWidth(l.x.labels.back()) / 2 + kPad);
   right += l.legendRight;
+  bottom += l.legendBelow;
   PlotRect r;
   r.x0 = std::clamp(left, 0, std::max(0, o.width - 2));
   r.x1 = std::clamp(o.width - right, r.x0 + 1, o.width);
@@ -537,11 +539,12 @@ PlotRect rectFromMargins(const Layout& l, const PlotOptions& o) {
 }
 
 Layout computeLayout(const std::vector<Series>& series, const PlotOptions& o,
-                     int legendRight = 0) {
+                     int legendRight = 0, int legendBelow = 0) {
   HW_CHECK_GE(o.width, 1);
   HW_CHECK_GE(o.height, 1);
   Layout l;
   l.legendRight = legendRight;
+  l.legendBelow = legendBelow;
   l.x.log = o.logX;
   l.y.log = o.logY;
   bool any = false;
@@ -815,8 +818,9 @@ std::vector<unsigned char> drawData(Image<Rgba8>& im, const Layout& l,
 }
 
 // The chart and where its legend goes: in the plot-area corner that hides no
-// data, or, when every corner would hide some, beside the plot area (which
-// then narrows) if the image is wide enough; else the corner hiding least.
+// data; when every corner would hide some, beside the plot area (which then
+// narrows) if it keeps half its width, else below the x axis (the plot area
+// then gets lower) if it keeps half its height; else the corner hiding least.
 struct Rendered {
   Image<Rgba8> image;
   Layout layout;
@@ -839,6 +843,16 @@ Rendered render(const std::vector<Series>& series, const PlotOptions& o) {
     const PlotRect& r = out.layout.rect;
     drawLegend(out.image, box, r.x1 + kLegendInset, r.y0, PlotRect{0, 0, o.width, o.height},
                series, st);
+    return out;
+  }
+  const int below = box.h + 6;
+  if (hidden > 0 && (r0.y1 - r0.y0) - below >= (r0.y1 - r0.y0) / 2 &&
+      r0.x0 + box.w <= o.width) {
+    out.layout = computeLayout(series, o, 0, below);
+    out.image = Image<Rgba8>(o.width, o.height, kWhite);
+    drawData(out.image, out.layout, series, st, o);
+    drawLegend(out.image, box, out.layout.rect.x0, o.height - box.h - 4,
+               PlotRect{0, 0, o.width, o.height}, series, st);
     return out;
   }
   drawLegend(out.image, box, at[0], at[1], out.layout.rect, series, st);

@@ -51,7 +51,9 @@ struct PlotRect {
 // broken there). Lines and markers are clipped to the plot area. Labelled
 // series get a legend entry: in a plot-area corner where it hides no data,
 // else beside the plot area, right of it (the plot area narrows; only when
-// it keeps at least half its width), else in the corner hiding the least.
+// it keeps at least half its width), else below the x axis (the plot area
+// gets lower; only when it keeps half its height), else in the corner
+// hiding the least.
 Image<Rgba8> renderPlot(const std::vector<Series>& series, const PlotOptions& options);
 
 // The plot area renderPlot() uses for the same arguments.
