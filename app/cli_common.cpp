@@ -135,7 +135,7 @@ std::string parseSpacings(const std::string& text, int maxSpacing, const std::st
 }
 
 // Keyframe schedule options of walk and schedule-study.
-void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
+void addPlannerOptions(CLI::App* c, session::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto) {
   c->add_option("--plan-by", planBy,
                 "Adaptive schedule: worst (every in-between frame predicted >= the target), "
@@ -168,8 +168,8 @@ void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& pr
       ->capture_default_str();
   std::vector<std::string> names;
   if (withAuto) names.push_back("auto");
-  for (auto pr : keyframe::kAllPredictors) names.push_back(keyframe::predictorName(pr));
-  for (auto pr : keyframe::kProbePredictors) names.push_back(keyframe::predictorName(pr));
+  for (auto pr : session::kAllPredictors) names.push_back(session::predictorName(pr));
+  for (auto pr : session::kProbePredictors) names.push_back(session::predictorName(pr));
   c->add_option("--predictor", predictor,
                 std::string("Adaptive schedule's predictor of in-between quality: holes (fraction "
                             "of a low-res frame neither keyframe's forward splat covers), distance "

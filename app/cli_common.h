@@ -12,7 +12,7 @@
 #include "core/depth.h"
 #include "core/gl/context.h"
 #include "core/result.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
@@ -85,7 +85,7 @@ std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod);
 std::string parseSpacings(const std::string& text, int maxSpacing, const std::string& maxName,
                           std::vector<int>* out, const std::string& option = "--spacings");
 // Keyframe schedule options of walk and schedule-study.
-void addPlannerOptions(CLI::App* c, keyframe::PlannerOptions& p, std::string& predictor,
+void addPlannerOptions(CLI::App* c, session::PlannerOptions& p, std::string& predictor,
                        std::string& planBy, bool withAuto);
 // A whole number of frames in [lo, hi].
 CLI::Validator wholeFrames(long lo, long hi, const std::string& name);

@@ -32,7 +32,7 @@
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
@@ -57,7 +57,7 @@ struct ScheduleStudyCli {
   StudyLod studyLod;
   bool studyQuiet = false;
   int studyRef = 10;
-  keyframe::PlannerOptions studyPlan;
+  session::PlannerOptions studyPlan;
 };
 
 int run(ScheduleStudyCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
@@ -72,10 +72,10 @@ int run(ScheduleStudyCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** 
     so.walk.depthMode = depthModeOf(o.studyC.depth);
     so.walk.maxFrames = o.studyC.frames;
     so.referenceSpacing = o.studyRef;
-    keyframe::parsePlanCriterion(o.studyPlanBy.c_str(), &o.studyPlan.criterion);
+    session::parsePlanCriterion(o.studyPlanBy.c_str(), &o.studyPlan.criterion);
     so.planner = o.studyPlan;
     so.autoPredictor = o.studyPredictor == "auto";
-    if (!so.autoPredictor) keyframe::parsePredictor(o.studyPredictor.c_str(), &so.planner.predictor);
+    if (!so.autoPredictor) session::parsePredictor(o.studyPredictor.c_str(), &so.planner.predictor);
     so.outDir = o.studyOut;
     so.progress = !o.studyQuiet;
     auto in = loadInputs(o.studyC);

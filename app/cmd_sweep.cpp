@@ -32,7 +32,7 @@
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
@@ -103,8 +103,7 @@ int run(SweepCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
         return fail(st.error().message);
       return 0;
     }
-    if (o.sweepDist.d.resume && !bench::distributed(o.sweepDist.d))
-      return fail("--resume: only with --slurm or --workers N > 1 (an in-process sweep has no chunks to resume)");
+    so.resume = o.sweepDist.d.resume;  // in process: the row log; distributed: the chunks
     Result<json> res = makeError("");
     if (bench::distributed(o.sweepDist.d)) {
       if (auto st = ensureWritableDir(o.sweepOut); !st) return fail(st.error().message);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <utility>
 
+#include "core/statistics.h"
 #include "core/json_util.h"
 #include "session/schedule_calibration.h"
 #include "report/plot.h"
@@ -84,7 +85,7 @@ Result<SchedulePsnr> schedulePsnr(const SegmentTable& table, const std::vector<i
 
 OracleSchedule fewestKeyframesForMedian(const SegmentTable& table, double targetDb) {
   OracleSchedule best;
-  best.keyframes = keyframe::fewestKeyframesForMedian(
+  best.keyframes = session::fewestKeyframesForMedian(
       table.frames(), targetDb, 1, table.maxGap(),
       [&](int k0, int k1, int f) { return table.at(k0, k1, f); }, nullptr, &best.good);
   return best;
@@ -309,30 +310,30 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     ropt.depthMode = opt.walk.depthMode;
     auto rr = keyframe::GeometryRenderer::create(scene, ropt);
     if (!rr) return rr.error();
-    keyframe::KeyframeProbe probe(**rr, [&](int i) { return path.cameraAt(i); },
+    session::KeyframeProbe probe(**rr, [&](int i) { return path.cameraAt(i); },
                                   opt.plannerOptions.probeSize, opt.plannerOptions.probeError);
     const int gmax = std::min(opt.plannerOptions.maxGap, opt.maxGap);
     // One plan per target with `base` (predictor, criterion, fit) on `pr`,
     // scored on the table; returns the fewest keyframes per 100 frames
     // reaching the reference. One call per (group, criterion).
-    auto sweepTargets = [&](keyframe::KeyframeProbe& pr, const keyframe::PlannerOptions& base,
+    auto sweepTargets = [&](session::KeyframeProbe& pr, const session::PlannerOptions& base,
                             const std::string& group, const std::string& criterion,
                             double step) -> Result<double> {
       const std::string label = group.empty() ? criterion : group + ", " + criterion;
       Series* curve = &curves.emplace_back(Curve{group, criterion, Series{}}).points;
       double best = std::nan("");
       for (double t = opt.plannerTargetMin; t <= opt.plannerTargetMax + 1e-9; t += step) {
-        keyframe::PlannerOptions po = base;
+        session::PlannerOptions po = base;
         po.targetPsnrDb = t;
         po.maxGap = gmax;
         po.minGap = std::min(po.minGap, po.maxGap);
-        auto plan = keyframe::planAdaptiveSchedule(pr, frames, po);
+        auto plan = session::planAdaptiveSchedule(pr, frames, po);
         if (!plan) return plan.error();
         auto sp = schedulePsnr(table, plan->keyframes);
         if (!sp) return sp.error();
         const double kf = 100.0 * static_cast<double>(plan->keyframes.size()) / frames;
         plannerRows.push_back({{"criterion", label},
-                               {"predictor", keyframe::predictorName(base.predictor)},
+                               {"predictor", session::predictorName(base.predictor)},
                                {"target", t},
                                {"keyframes", plan->keyframes.size()},
                                {"keyframes_per_100", kf},
@@ -345,25 +346,25 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
       }
       return best;
     };
-    const keyframe::PlanCriterion criteria[] = {keyframe::PlanCriterion::WorstFrame,
-                                                keyframe::PlanCriterion::SegmentMedian,
-                                                keyframe::PlanCriterion::WalkMedian};
+    const session::PlanCriterion criteria[] = {session::PlanCriterion::WorstFrame,
+                                                session::PlanCriterion::SegmentMedian,
+                                                session::PlanCriterion::WalkMedian};
     if (!opt.probePsnrOnly) {
-      for (keyframe::PlanCriterion c : criteria) {
-        keyframe::PlannerOptions po = opt.plannerOptions;
+      for (session::PlanCriterion c : criteria) {
+        session::PlannerOptions po = opt.plannerOptions;
         po.criterion = c;
         auto best =
-            sweepTargets(probe, po, "", keyframe::planCriterionName(c), opt.plannerTargetStep);
+            sweepTargets(probe, po, "", session::planCriterionName(c), opt.plannerTargetStep);
         if (!best) return best.error();
         if (!(*best >= plannerBestKf)) {
           plannerBestKf = *best;
-          plannerBestCriterion = keyframe::planCriterionName(c);
+          plannerBestCriterion = session::planCriterionName(c);
         }
       }
       // The same predictor fitted on this table (in-sample: the path's own
       // measured PSNRs), walk-median: what the features can rank once the
       // fit's scale is right for the scene.
-      std::vector<keyframe::FrameFeatures> feats;
+      std::vector<session::FrameFeatures> feats;
       std::vector<double> measured;
       for (int k0 = 0; k0 < frames; ++k0)
         for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
@@ -377,12 +378,12 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
                           exact(ft->angleDeg) + "," + exact(ft->holeFraction) + "," +
                           exact(ft->stretch) + "," + exact(ft->disagreementMse) + "\n";
           }
-      const keyframe::PsnrFit fit =
-          keyframe::fitPredictor(feats, measured, opt.plannerOptions.predictor);
+      const session::PsnrFit fit =
+          session::fitPredictor(feats, measured, opt.plannerOptions.predictor);
       if (std::isfinite(fit.intercept) && std::isfinite(fit.slope)) {
         inSampleFit = fitJson(fit);
-        keyframe::PlannerOptions po = opt.plannerOptions;
-        po.criterion = keyframe::PlanCriterion::WalkMedian;
+        session::PlannerOptions po = opt.plannerOptions;
+        po.criterion = session::PlanCriterion::WalkMedian;
         po.useDefaultFit = false;
         po.fit = fit;
         auto best =
@@ -395,30 +396,30 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
     // own probe; + distance), on their own probes: the same three criteria
     // with the default fit, and walk-median with a fit on this table.
     if (opt.probePsnrSize > 0) {
-      keyframe::KeyframeProbe pp(**rr, [&](int i) { return path.cameraAt(i); }, opt.probePsnrSize,
+      session::KeyframeProbe pp(**rr, [&](int i) { return path.cameraAt(i); }, opt.probePsnrSize,
                                  opt.probeError);
       std::vector<double> meas;
       for (int k0 = 0; k0 < frames; ++k0)
         for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
           for (int f = k0 + 1; f < k1; ++f) meas.push_back(table.at(k0, k1, f));
-      for (keyframe::Predictor pred : keyframe::kProbePredictors) {
-        keyframe::PlannerOptions base = opt.plannerOptions;
+      for (session::Predictor pred : session::kProbePredictors) {
+        session::PlannerOptions base = opt.plannerOptions;
         base.predictor = pred;
         base.probeSize = opt.probePsnrSize;
         base.probeError = opt.probeError;
-        const std::string tag = std::string(keyframe::predictorName(pred)) + " " +
+        const std::string tag = std::string(session::predictorName(pred)) + " " +
                                 std::to_string(opt.probePsnrSize) + " px";
         json rows = json::array();
         // The cost of one walk-median plan over the whole path from scratch
         // (every frame's probe, every warp and comparison up to the max gap).
         double planMs = 0, planRenderMs = 0;
         {
-          keyframe::PlannerOptions po = base;
-          po.criterion = keyframe::PlanCriterion::WalkMedian;
+          session::PlannerOptions po = base;
+          po.criterion = session::PlanCriterion::WalkMedian;
           po.maxGap = gmax;
           po.minGap = std::min(po.minGap, po.maxGap);
           po.targetPsnrDb = refLower;
-          auto plan = keyframe::planAdaptiveSchedule(**rr, [&](int i) { return path.cameraAt(i); },
+          auto plan = session::planAdaptiveSchedule(**rr, [&](int i) { return path.cameraAt(i); },
                                                      frames, po);
           if (!plan) return plan.error();
           planMs = plan->planMs;
@@ -426,26 +427,26 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         }
         double bestKf = std::nan("");
         std::string bestCrit;
-        for (keyframe::PlanCriterion c : criteria) {
-          keyframe::PlannerOptions po = base;
+        for (session::PlanCriterion c : criteria) {
+          session::PlannerOptions po = base;
           po.criterion = c;
           auto best =
-              sweepTargets(pp, po, tag, keyframe::planCriterionName(c), opt.probeTargetStep);
+              sweepTargets(pp, po, tag, session::planCriterionName(c), opt.probeTargetStep);
           if (!best) return best.error();
-          rows.push_back({{"criterion", keyframe::planCriterionName(c)},
+          rows.push_back({{"criterion", session::planCriterionName(c)},
                           {"keyframes_per_100", finiteOrNull(*best)}});
-          if (!(*best >= bestKf)) bestKf = *best, bestCrit = keyframe::planCriterionName(c);
+          if (!(*best >= bestKf)) bestKf = *best, bestCrit = session::planCriterionName(c);
         }
         // Every table entry's regressors (the walk-median plans above
         // memoised them all).
-        std::vector<keyframe::FrameFeatures> pf;
-        const bool first = pred == keyframe::kProbePredictors[0];
+        std::vector<session::FrameFeatures> pf;
+        const bool first = pred == session::kProbePredictors[0];
         for (int k0 = 0; k0 < frames; ++k0)
           for (int k1 = k0 + 2; k1 < frames && k1 - k0 <= gmax; ++k1)
             for (int f = k0 + 1; f < k1; ++f) {
-              auto ff = keyframe::predictorFeatures(pp, pred, k0, k1, f);
+              auto ff = session::predictorFeatures(pp, pred, k0, k1, f);
               if (!ff) return ff.error();
-              if (pred == keyframe::Predictor::ProbePsnr) {  // it reads probeMse alone
+              if (pred == session::Predictor::ProbePsnr) {  // it reads probeMse alone
                 auto d = pp.relDistance(k0, k1, f);
                 if (!d) return d.error();
                 ff->relDistance = *d;
@@ -457,16 +458,16 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
                             exact(ff->probeMse) + "," + exact(ff->relDistance) + "\n";
             }
         std::vector<double> predDefault, predIn;
-        const keyframe::PsnrFit dfit = keyframe::defaultFit(pred);
-        const keyframe::PsnrFit ifit = keyframe::fitPredictor(pf, meas, pred);
+        const session::PsnrFit dfit = session::defaultFit(pred);
+        const session::PsnrFit ifit = session::fitPredictor(pf, meas, pred);
         for (const auto& ff : pf) {
-          predDefault.push_back(keyframe::predictPsnr(dfit, ff, pred));
-          predIn.push_back(keyframe::predictPsnr(ifit, ff, pred));
+          predDefault.push_back(session::predictPsnr(dfit, ff, pred));
+          predIn.push_back(session::predictPsnr(ifit, ff, pred));
         }
         double inKf = std::nan("");
         if (ifit.finite()) {
-          keyframe::PlannerOptions po = base;
-          po.criterion = keyframe::PlanCriterion::WalkMedian;
+          session::PlannerOptions po = base;
+          po.criterion = session::PlanCriterion::WalkMedian;
           po.useDefaultFit = false;
           po.fit = ifit;
           auto best =
@@ -479,7 +480,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
           rmse += (predDefault[i] - meas[i]) * (predDefault[i] - meas[i]);
         rmse = std::sqrt(rmse / static_cast<double>(std::max<std::size_t>(1, meas.size())));
         probePredictors.push_back(
-            {{"predictor", keyframe::predictorName(pred)},
+            {{"predictor", session::predictorName(pred)},
              {"probe_size", opt.probePsnrSize},
              {"hole_mse", opt.probeError.holeMse},
              {"blur_radius", opt.probeError.blurRadius},
@@ -493,7 +494,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
              {"reduction", finiteOrNull(1.0 - bestKf / refKf)},
              {"default_fit", fitJson(dfit)},
              {"default_fit_rmse_db", finiteOrNull(rmse)},
-             {"spearman", finiteOrNull(keyframe::spearman(predIn, meas))},
+             {"spearman", finiteOrNull(spearman(predIn, meas))},
              {"in_sample_fit", fitJson(ifit)},
              {"in_sample_keyframes_per_100", finiteOrNull(inKf)},
              {"in_sample_reduction", finiteOrNull(1.0 - inKf / refKf)},
@@ -576,7 +577,7 @@ Result<json> runScheduleOracle(const scenes::Scene& scene, const std::string& sc
         Series entry;
         entry.label =
             "planner, " + (c.group.empty()
-                               ? std::string(keyframe::predictorName(opt.plannerOptions.predictor))
+                               ? std::string(session::predictorName(opt.plannerOptions.predictor))
                                : c.group);
         entry.markers = false;
         entry.colour =

@@ -18,7 +18,7 @@
 
 #include "session/walk.h"
 #include "core/result.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -85,7 +85,7 @@ struct ScheduleOracleOptions {
   // (dB, predicted) in plannerTargetStep steps, for the worst-frame,
   // segment-median and walk-median criteria; its max gap is capped at maxGap.
   bool planner = true;
-  keyframe::PlannerOptions plannerOptions;
+  session::PlannerOptions plannerOptions;
   double plannerTargetMin = 18, plannerTargetMax = 40, plannerTargetStep = 0.5;
   // The probe predictors (probe-psnr, probe-psnr+distance) scored the same
   // way on their own probes of this size (pixels, longer side; 0 = not
@@ -95,7 +95,7 @@ struct ScheduleOracleOptions {
   // of every entry).
   int probePsnrSize = 64;
   double probeTargetStep = 0.25;
-  keyframe::ProbeErrorOptions probeError;
+  session::ProbeErrorOptions probeError;
   bool probePsnrOnly = false;  // skip the planner's own predictor (its sweeps, features.csv)
   bool progress = true;
 };

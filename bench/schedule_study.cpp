@@ -7,6 +7,7 @@
 #include <map>
 
 #include "report/html_report.h"
+#include "core/statistics.h"
 #include "core/json_util.h"
 #include "session/schedule_calibration.h"
 #include "report/plot.h"
@@ -24,14 +25,14 @@ using session::fitJson;
 
 namespace {
 
-using keyframe::Predictor;
+using session::Predictor;
 using nlohmann::json;
 
 // Per in-between frame of a walk: its bracketing keyframes and measured PSNR.
 struct FrameSample {
   int frame = 0, k0 = 0, k1 = 0;
   double psnr = 0;  // identical frames (+inf) count as 99 dB, as in the walk summary
-  keyframe::FrameFeatures features;
+  session::FrameFeatures features;
 };
 
 struct Run {
@@ -99,7 +100,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   auto cameraOf = [&](int i) { return path.cameraAt(i); };
   // One probe cache for the correlation part (its cost is not a plan's cost),
   // with the cold plans' probe options so both see the same probes.
-  keyframe::KeyframeProbe probe(**probeRendererR, cameraOf, opt.planner.probeSize,
+  session::KeyframeProbe probe(**probeRendererR, cameraOf, opt.planner.probeSize,
                                 opt.planner.probeError);
 
   auto walk = [&](const scenes::CameraPath& p, const std::vector<int>& keys, Run& run) -> Status {
@@ -166,35 +167,35 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       "fit_slope,fit_slope2,samples\n";
   Predictor best = opt.planner.predictor;
   double bestRho = -1;
-  std::map<Predictor, keyframe::PsnrFit> fits;
-  std::vector<keyframe::FrameFeatures> feats;
+  std::map<Predictor, session::PsnrFit> fits;
+  std::vector<session::FrameFeatures> feats;
   std::vector<double> measured;
   for (const Run& r : fixedRuns)
     for (const FrameSample& s : r.samples) feats.push_back(s.features), measured.push_back(s.psnr);
-  std::vector<Predictor> candidates(std::begin(keyframe::kAllPredictors),
-                                    std::end(keyframe::kAllPredictors));
-  candidates.insert(candidates.end(), std::begin(keyframe::kProbePredictors),
-                    std::end(keyframe::kProbePredictors));
+  std::vector<Predictor> candidates(std::begin(session::kAllPredictors),
+                                    std::end(session::kAllPredictors));
+  candidates.insert(candidates.end(), std::begin(session::kProbePredictors),
+                    std::end(session::kProbePredictors));
   for (Predictor pr : candidates) {
-    const keyframe::PsnrFit pf = keyframe::fitPredictor(feats, measured, pr);
+    const session::PsnrFit pf = session::fitPredictor(feats, measured, pr);
     fits[pr] = pf;
     std::vector<double> x, y, xr, yr;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples) {
-        x.push_back(keyframe::predictPsnr(pf, s.features, pr));
+        x.push_back(session::predictPsnr(pf, s.features, pr));
         y.push_back(s.psnr);
         if (&r == refRun) xr.push_back(x.back()), yr.push_back(s.psnr);
       }
-    const double pp = keyframe::pearson(x, y), sp = keyframe::spearman(x, y);
-    const double pref = keyframe::pearson(xr, yr), sref = keyframe::spearman(xr, yr);
-    correlation.push_back({{"predictor", keyframe::predictorName(pr)},
+    const double pp = pearson(x, y), sp = spearman(x, y);
+    const double pref = pearson(xr, yr), sref = spearman(xr, yr);
+    correlation.push_back({{"predictor", session::predictorName(pr)},
                            {"pearson_pooled", finiteOrNull(pp)},
                            {"spearman_pooled", finiteOrNull(sp)},
                            {"pearson_reference_spacing", finiteOrNull(pref)},
                            {"spearman_reference_spacing", finiteOrNull(sref)},
                            {"fit", fitJson(pf)},
                            {"samples", x.size()}});
-    csvCorr += std::string(keyframe::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) +
+    csvCorr += std::string(session::predictorName(pr)) + "," + fmt(pp, 3) + "," + fmt(sp, 3) +
                "," + fmt(pref, 3) + "," + fmt(sref, 3) + "," + fmt(pf.intercept, 3) + "," +
                fmt(pf.slope, 3) + "," + fmt(pf.slope2, 3) + "," + std::to_string(x.size()) + "\n";
     // A feature whose fit rises with it (PSNR up as quality drops) is not a
@@ -202,20 +203,20 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     if (std::isfinite(sp) && sp > bestRho && pf.slope < 0 && pf.slope2 <= 0)
       bestRho = sp, best = pr;
   }
-  keyframe::PlannerOptions planner = opt.planner;
+  session::PlannerOptions planner = opt.planner;
   if (opt.autoPredictor) {
     planner.predictor = best;
     planner.useDefaultFit = false;
     planner.fit = fits[best];
   }
-  const keyframe::PsnrFit fit =
-      planner.useDefaultFit ? keyframe::defaultFit(planner.predictor) : planner.fit;
-  say(std::string("predictor ") + keyframe::predictorName(planner.predictor) + ": PSNR = " +
+  const session::PsnrFit fit =
+      planner.useDefaultFit ? session::defaultFit(planner.predictor) : planner.fit;
+  say(std::string("predictor ") + session::predictorName(planner.predictor) + ": PSNR = " +
       fmt(fit.intercept) + " + " + fmt(fit.slope) + " * x + " + fmt(fit.slope2) + " * x2");
   auto predictedStats = [&](Run& r) {
     std::vector<double> v;
     for (const FrameSample& s : r.samples)
-      v.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
+      v.push_back(session::predictPsnr(fit, s.features, planner.predictor));
     r.predictedMin = percentile(v, 0);
     r.predictedMedian = median(v);
   };
@@ -229,7 +230,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     std::vector<double> predictedAll;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples)
-        predictedAll.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
+        predictedAll.push_back(session::predictPsnr(fit, s.features, planner.predictor));
     const double lo0 = percentile(predictedAll, 0) - 10, hi0 = percentile(predictedAll, 100) + 10;
     for (const Run& r : fixedRuns) {
       const int want = static_cast<int>(r.keyframes.size());
@@ -237,9 +238,9 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
       int bestCount = -1;
       for (int it = 0; it < 24; ++it) {
         const double mid = 0.5 * (lo + hi);
-        keyframe::PlannerOptions po = planner;
+        session::PlannerOptions po = planner;
         po.targetPsnrDb = mid;
-        auto plan = keyframe::planAdaptiveSchedule(probe, frames, po);
+        auto plan = session::planAdaptiveSchedule(probe, frames, po);
         if (!plan) return plan.error();
         const int got = static_cast<int>(plan->keyframes.size());
         if (bestCount < 0 || std::abs(got - want) < std::abs(bestCount - want) ||
@@ -256,10 +257,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
   std::vector<Run> adaptiveRuns;
   for (double target : targets) {
     say("adaptive, target " + fmt(target) + " dB");
-    keyframe::PlannerOptions po = planner;
+    session::PlannerOptions po = planner;
     po.targetPsnrDb = target;
     // A cold plan (fresh probe): its time is what a walk would pay.
-    auto plan = keyframe::planAdaptiveSchedule(**probeRendererR, cameraOf, frames, po);
+    auto plan = session::planAdaptiveSchedule(**probeRendererR, cameraOf, frames, po);
     if (!plan) return plan.error();
     Run run;
     run.schedule = "adaptive";
@@ -368,11 +369,11 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     po.height = 560;
     HW_TRY(writePlot(opt.outDir + "/schedule.png", {fm, am, f5, a5}, po));
     Series sc;
-    sc.label = std::string("fixed-schedule frames, ") + keyframe::predictorName(planner.predictor);
+    sc.label = std::string("fixed-schedule frames, ") + session::predictorName(planner.predictor);
     sc.lines = false;
     for (const Run& r : fixedRuns)
       for (const FrameSample& s : r.samples) {
-        sc.x.push_back(keyframe::predictPsnr(fit, s.features, planner.predictor));
+        sc.x.push_back(session::predictPsnr(fit, s.features, planner.predictor));
         sc.y.push_back(s.psnr);
       }
     Series line;
@@ -386,7 +387,7 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
     PlotOptions pp;
     pp.title = "Predicted vs measured PSNR: " + sceneLabel;
     pp.xLabel =
-        std::string("predicted PSNR, ") + keyframe::predictorName(planner.predictor) + " (dB)";
+        std::string("predicted PSNR, ") + session::predictorName(planner.predictor) + " (dB)";
     pp.yLabel = "measured in-between PSNR (dB)";
     HW_TRY(writePlot(opt.outDir + "/predictor.png", {sc, line}, pp));
   }
@@ -406,10 +407,10 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
         {"compose_mode", s0["compose_mode"]},
         {"sky_backdrop", s0["sky_backdrop"]}}},
       {"planner",
-       {{"predictor", keyframe::predictorName(planner.predictor)},
+       {{"predictor", session::predictorName(planner.predictor)},
         {"predictor_chosen_by_correlation", opt.autoPredictor},
         {"fit", fitJson(fit)},
-        {"criterion", keyframe::planCriterionName(planner.criterion)},
+        {"criterion", session::planCriterionName(planner.criterion)},
         {"min_gap", planner.minGap},
         {"max_gap", planner.maxGap},
         {"probe_size", planner.probeSize},
@@ -444,8 +445,8 @@ Result<json> runScheduleStudy(const scenes::Scene& scene, const std::string& sce
 
   HtmlReport page("Keyframe schedules: fixed vs error-driven (" + sceneLabel + ")");
   page.paragraph("Scene " + sceneLabel + ", " + std::to_string(frames) +
-                 " frames. Planner: predictor " + keyframe::predictorName(planner.predictor) +
-                 ", criterion " + keyframe::planCriterionName(planner.criterion) + ", gaps " +
+                 " frames. Planner: predictor " + session::predictorName(planner.predictor) +
+                 ", criterion " + session::planCriterionName(planner.criterion) + ", gaps " +
                  std::to_string(planner.minGap) + ".." + std::to_string(planner.maxGap) +
                  " frames, probes " + std::to_string(planner.probeSize) + " px. " +
                  doc["note"].get<std::string>());

@@ -12,7 +12,7 @@
 
 #include "session/walk.h"
 #include "core/result.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -30,7 +30,7 @@ struct ScheduleStudyOptions {
   // curves compare at equal counts; the targets then do not depend on the
   // fit's scale, only on its sign).
   std::vector<double> targets;
-  keyframe::PlannerOptions planner;  // gaps, probe size, predictor; target ignored
+  session::PlannerOptions planner;  // gaps, probe size, predictor; target ignored
   // Plan with the predictor whose rank correlation with the measured PSNR of
   // the fixed walks is strongest here (kAllPredictors and kProbePredictors),
   // and its fit; otherwise planner's.

@@ -1,5 +1,6 @@
 #include "bench/skip_study.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -92,6 +93,23 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
     if (opt.progress) std::fprintf(stderr, "bench: skips on %s\n", sc.spec.c_str());
     auto base = walk(nullptr);
     if (!base) return base.error();
+    // Run-to-run noise: the default walk again; frames are identical, times are not.
+    double msLo = numberOrNan((*base)["in_between_ms"]["median"]), msHi = msLo;
+    for (int k = 1; k < std::max(2, opt.repeats); ++k) {
+      auto again = walk(nullptr);
+      if (!again) return again.error();
+      const double v = numberOrNan((*again)["in_between_ms"]["median"]);
+      msLo = std::min(msLo, v), msHi = std::max(msHi, v);
+    }
+    const double noise = msHi - msLo;
+    auto timing = [noise](json& row) {
+      const double d = numberOrNan(row["off"]["in_between_ms_median"]) -
+                       numberOrNan(row["on"]["in_between_ms_median"]);
+      row["ms_difference"] = finiteOrNull(d);
+      row["ms_noise"] = finiteOrNull(noise);
+      row["within_noise"] = std::isfinite(d) && std::isfinite(noise) ? json(std::abs(d) <= noise)
+                                                                     : json(nullptr);
+    };
     for (const Skip& k : skips) {
       auto other = walk(k.toggle);
       if (!other) return other.error();
@@ -110,6 +128,7 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
         row["near_distance"] = nearD;
         row["near_geometry_ms_median"] = on["near_geometry_ms"]["median"];
       }
+      timing(row);
       rows.push_back(row);
     }
     // Subdivision of large quads (paper §2.1): each mode ("on") against the
@@ -119,7 +138,7 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
       Result<json> with = *base;
       if (m != warp::Subdivision::None) with = walk([m](WalkOptions& w) { w.warp.subdivision = m; });
       if (!with) return with.error();
-      rows.push_back({{"scene", sc.spec},
+      json row = {{"scene", sc.spec},
                       {"triangles", (*base)["scene"]["triangles"]},
                       {"skip", std::string("subdivision ") + warp::subdivisionName(m)},
                       {"what", "large quads cut into cells at upload; on = this mode, off = none"},
@@ -127,7 +146,9 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
                       {"on", measure(*with)},
                       {"off", measure(*base)},
                       {"in_between_frames", (*with)["in_between_frames"]},
-                      {"subdivide_cell_px", (*with)["subdivide_cell_px"]}});
+                      {"subdivide_cell_px", (*with)["subdivide_cell_px"]}};
+      timing(row);
+      rows.push_back(row);
     }
   }
   return json{{"rows", rows},
@@ -137,7 +158,8 @@ Result<json> runSkipStudy(const SkipStudyOptions& opt) {
                 {"tau", 2048},
                 {"planarity", "region-local"},
                 {"merge_strips", true},
-                {"near_distance", nearD}}}};
+                {"near_distance", nearD},
+                {"repeats", std::max(2, opt.repeats)}}}};
 }
 
 std::string skipStudyCsv(const json& study) {
@@ -146,7 +168,7 @@ std::string skipStudyCsv(const json& study) {
       "ms_on_p95,ms_off_p95,psnr_on_median,psnr_off_median,psnr_on_p5,psnr_off_p5,"
       "psnr_large_on_median,psnr_large_off_median,psnr_large_on_p5,psnr_large_off_p5,"
       "large_px_share_on,large_px_share_off,drawn_quads_on,drawn_quads_off,subdivided_quads_on,"
-      "subdivided_quads_off\n";
+      "subdivided_quads_off,ms_difference,ms_noise,within_noise\n";
   for (const json& r : study["rows"]) {
     csv += r["scene"].get<std::string>() + "," + std::to_string(r["triangles"].get<std::size_t>()) +
            "," + r["skip"].get<std::string>() + "," + r["default"].get<std::string>() + "," +
@@ -168,7 +190,14 @@ std::string skipStudyCsv(const json& study) {
       csv += ',';
       csv += fmt(numberOrNan(r["off"][k]), decimals);
     }
-    csv += "\n";
+    csv += ',';
+    csv += fmt(numberOrNan(r.value("ms_difference", json(nullptr))));
+    csv += ',';
+    csv += fmt(numberOrNan(r.value("ms_noise", json(nullptr))));
+    csv += ',';
+    const json within = r.value("within_noise", json(nullptr));
+    if (within.is_boolean()) csv += within.get<bool>() ? '1' : '0';
+    csv += '\n';
   }
   return csv;
 }

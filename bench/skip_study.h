@@ -28,6 +28,10 @@ struct SkipStudyOptions {
                                 {"torcs:forza", "paths/forza.json"}};
   int frames = 41;            // frames of each path per walk
   double nearDistance = 1.0;  // scene units (metres in every built-in and real scene)
+  // The default walk is run this many times (≥ 2) per scene: the spread of
+  // its in-between ms medians (max − min) is the run-to-run noise a
+  // difference between on and off must exceed to count.
+  int repeats = 3;
   bool progress = true;
   std::string glRenderer, glVersion;
 };
@@ -35,7 +39,9 @@ struct SkipStudyOptions {
 // A GL context must be current. Scenes that cannot be loaded (e.g. real
 // scenes not fetched) are reported in the result's "unavailable" list with
 // the reason and a warning on stderr; the others are measured. Returns
-// {"rows": [...], "unavailable": [...], "settings": {...}}.
+// {"rows": [...], "unavailable": [...], "settings": {...}}. Each row has
+// ms_difference (off − on in-between ms median), ms_noise (the scene's
+// run-to-run spread) and within_noise (|ms_difference| ≤ ms_noise).
 Result<nlohmann::json> runSkipStudy(const SkipStudyOptions& options);
 
 // The rows as CSV (header + one line per row).

@@ -1,11 +1,15 @@
 #include "bench/sweep.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "report/html_report.h"
 #include "core/json_util.h"
@@ -130,7 +134,8 @@ Result<int> sweepCellCount(const scenes::CameraPath& path, const SweepOptions& o
 }
 
 Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneLabel,
-                           const scenes::CameraPath& path, const SweepOptions& opt, int first, int last) {
+                           const scenes::CameraPath& path, const SweepOptions& opt, int first, int last,
+                           SweepCellLog* log) {
   auto planR = makePlan(path, opt);
   if (!planR) return planR.error();
   const Plan& plan = *planR;
@@ -210,8 +215,23 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
   json rows = json::array();
   std::set<int> tileSizesDone;
   const int total = last - first;
+  int resumed = 0;
   for (int c = first; c < last; ++c) {
     Run r = plan.cells[static_cast<std::size_t>(c)];
+    if (log)
+      if (auto it = log->done.find(c); it != log->done.end()) {
+        // Run before: what the cell left for the cells after it, as if run here.
+        const json& row = it->second;
+        if (row.contains("duplicate_tile_size"))
+          tileSizesDone.insert(row["duplicate_tile_size"].get<int>());
+        else if (row.value("tile_size", json(nullptr)).is_number())
+          tileSizesDone.insert(row["tile_size"].get<int>());
+        if (isFivePointStencil(r))
+          fivePointQuads[r.tau] = numberOrNan(row["quads_per_keyframe"]["median"]);
+        rows.push_back(row);
+        ++resumed;
+        continue;
+      }
     if (r.mesh == keyframe::MeshMethod::UniformTiles) {
       if (!overlayKf) {
         overlayKf.emplace();
@@ -223,6 +243,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
       if (!tileSizesDone.insert(r.tileSize).second) {
         // Same tile size as an earlier τ: one row per tile size (the merge drops repeats too).
         rows.push_back({{"cell", c}, {"duplicate_tile_size", r.tileSize}});
+        if (log) HW_TRY(log->append(rows.back()));
         continue;
       }
       progress(c - first, total, "uniform tiles " + std::to_string(r.tileSize) + " px");
@@ -237,9 +258,13 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
       fivePointQuads[r.tau] = numberOrNan((*row)["quads_per_keyframe"]["median"]);
     (*row)["cell"] = c;
     rows.push_back(*row);
+    if (log) HW_TRY(log->append(rows.back()));
   }
   if (opt.progress)
-    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%40s\n", total, all.ms() / 1000.0, "");
+    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%s%40s\n", total - resumed, all.ms() / 1000.0,
+                 resumed > 0 ? (", " + std::to_string(resumed) + " kept from the interrupted run").c_str()
+                             : "",
+                 "");
   return rows;
 }
 
@@ -249,9 +274,60 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   if (!n) return n.error();
   if (opt.outDir.empty()) return makeError("sweep: an output directory is required");
   HW_TRY(ensureWritableDir(opt.outDir));
-  auto rows = runSweepCells(scene, sceneLabel, path, opt, 0, *n);
+  auto plan = makePlan(path, opt);
+  if (!plan) return plan.error();
+  // The header: what identifies the sweep's cells (a resumed run must have
+  // the same ones).
+  json cells = json::array();
+  for (const Run& r : plan->cells)
+    cells.push_back({r.method(), r.tau});
+  const json header = {{"sweep_row_log", 1}, {"scene", sceneLabel}, {"frames", plan->frames},
+                       {"depth", depthModeName(opt.depthMode)}, {"cells", cells}};
+  const std::string logPath = opt.outDir + "/" + kSweepRowLog;
+  SweepCellLog log;
+  if (opt.resume) {
+    auto text = readFile(logPath);
+    if (!text)
+      return makeError("--resume: " + logPath + " not found: there is no interrupted sweep in " +
+                       opt.outDir + " to resume");
+    std::size_t pos = 0;
+    bool first = true;
+    while (pos < text->size()) {
+      std::size_t end = text->find('\n', pos);
+      if (end == std::string::npos) break;  // a line cut by the interruption: run that cell again
+      const json j = json::parse(text->substr(pos, end - pos), nullptr, false);
+      pos = end + 1;
+      if (first) {
+        if (j != header)
+          return makeError("--resume: " + logPath + " was written by a different sweep (scene, "
+                           "frames, depth mode or cells differ); run without --resume to start afresh");
+        first = false;
+      } else if (!j.is_discarded() && j.contains("cell") && j["cell"].is_number_integer()) {
+        log.done[j["cell"].get<int>()] = j;
+      }
+    }
+    if (first)
+      return makeError("--resume: " + logPath + " has no header line; run without --resume");
+    if (opt.progress)
+      std::fprintf(stderr, "sweep: resuming, %zu of %d runs kept\n", log.done.size(), *n);
+  }
+  // A fresh log (or the kept rows rewritten, dropping a cut line).
+  std::string start = header.dump() + "\n";
+  for (const auto& [c, row] : log.done) start += row.dump() + "\n";
+  HW_TRY(writeFileAtomic(logPath, start));
+  log.append = [&logPath](const json& row) -> Status {
+    std::FILE* f = std::fopen(logPath.c_str(), "ab");
+    if (!f) return makeError("cannot append to " + logPath + ": " + std::strerror(errno));
+    const std::string line = row.dump() + "\n";
+    const bool ok = std::fwrite(line.data(), 1, line.size(), f) == line.size();
+    if (std::fclose(f) != 0 || !ok) return makeError("cannot append to " + logPath);
+    return {};
+  };
+  auto rows = runSweepCells(scene, sceneLabel, path, opt, 0, *n, &log);
   if (!rows) return rows.error();
-  return finishSweep(scene, sceneLabel, path, opt, *rows);
+  auto res = finishSweep(scene, sceneLabel, path, opt, *rows);
+  if (res) std::filesystem::remove(logPath);
+  return res;
 }
 
 Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLabel,
@@ -308,25 +384,30 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
     const std::string m = r["method"].get<std::string>();
     if (std::find(methods.begin(), methods.end(), m) == methods.end()) methods.push_back(m);
   }
+  // One series per method; tauLabels: each point labelled with its τ (a
+  // uniform-tiles point with the τ whose quad count it matches).
   auto seriesBy = [&](const char* xKey, const char* xStat, const char* yKey, const char* yStat,
-                      bool lodOnly) {
+                      bool lodOnly, bool tauLabels = false) {
     std::vector<Series> out;
     for (const std::string& m : methods) {
       Series s;
       s.label = m;
-      std::vector<std::pair<double, double>> pts;
+      std::vector<std::tuple<double, double, std::string>> pts;
       for (const json& r : rows) {
         if (r["method"] != m) continue;
         if (lodOnly && r["mesh"] != "lod") continue;
         const double x = xStat ? numberOrNan(r[xKey][xStat]) : numberOrNan(r[xKey]);
         const double y = yStat ? numberOrNan(r[yKey][yStat]) : numberOrNan(r[yKey]);
-        pts.push_back({x, y});
+        const double tau = r["tau"].is_number() ? r["tau"].get<double>()
+                                                : numberOrNan(r.value("matched_to_tau", json(nullptr)));
+        pts.emplace_back(x, y, std::isfinite(tau) ? tauLabel(tau) : std::string());
       }
       if (pts.empty()) continue;
       std::sort(pts.begin(), pts.end());
-      for (auto [x, y] : pts) {
+      for (const auto& [x, y, label] : pts) {
         s.x.push_back(x);
         s.y.push_back(y);
+        if (tauLabels) s.pointLabels.push_back(label);
       }
       out.push_back(s);
     }
@@ -338,7 +419,7 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   po.xLabel = "in-between frame ms (median)";
   po.yLabel = "PSNR dB (median)";
   po.logX = true;
-  HW_TRY(writePlot(opt.outDir + "/pareto.png", seriesBy("in_between_ms", "median", "psnr", "median", false), po));
+  HW_TRY(writePlot(opt.outDir + "/pareto.png", seriesBy("in_between_ms", "median", "psnr", "median", false, true), po));
   po.title = "Quads per keyframe vs tau";
   po.xLabel = "tau (z' units)";
   po.yLabel = "quads per keyframe (median)";
@@ -401,7 +482,7 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
                  ". Times are wall-clock on a shared VM: they move by tens of percent between "
                  "runs.");
   page.heading("Run time against error");
-  page.images({"pareto.png"}, {"median PSNR vs median in-between ms, one curve per method"});
+  page.images({"pareto.png"}, {"median PSNR vs median in-between ms, one curve per method; each point labelled with its tau (uniform tiles: the tau whose quad count they match)"});
   page.images({"quads_vs_tau.png", "psnr_vs_tau.png"});
   page.heading("Table");
   page.table({"mesh", "criterion", "variant", "tau", "tile px", "quads/keyframe", "LOD build ms",

@@ -4,6 +4,8 @@
 // per pixel, post-rendering warping), on the same frames. Run time against
 // error: writes sweep.json / sweep.csv, PNG plots, an overlay per τ and a
 // static index.html.
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,11 +32,22 @@ struct SweepOptions {
   int overlayFrame = -1;      // keyframe for the overlays; −1 = the middle keyframe
   std::string outDir;         // required
   bool progress = true;
+  // runSweep: keep the rows of an earlier interrupted run with the same
+  // cells (outDir/.sweep-rows.jsonl) and run only the others. Without it a
+  // row log left behind is started afresh.
+  bool resume = false;
   std::string glRenderer, glVersion;
 };
 
+// The row log of an in-process sweep, outDir/.sweep-rows.jsonl: a header
+// line naming the sweep's cells, then one line per finished cell's row, each
+// appended (and flushed) as the cell finishes, so an interrupted sweep keeps
+// what it ran. Removed when the sweep's outputs are written.
+constexpr const char* kSweepRowLog = ".sweep-rows.jsonl";
+
 // A GL context must be current. Returns the sweep.json document.
-// Equivalent to runSweepCells over every cell, then finishSweep.
+// Equivalent to runSweepCells over every cell, then finishSweep, with each
+// row logged as it finishes (kSweepRowLog; options.resume reuses it).
 Result<nlohmann::json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
                                 const scenes::CameraPath& path, const SweepOptions& options);
 
@@ -48,10 +61,18 @@ Result<nlohmann::json> runSweep(const scenes::Scene& scene, const std::string& s
 // depends on another's result. A tiles cell whose tile size an earlier cell of
 // the same call already ran returns {"cell", "duplicate_tile_size"}.
 Result<int> sweepCellCount(const scenes::CameraPath& path, const SweepOptions& options);
+// Rows already run, by cell (a resumed sweep's), and where each new row goes
+// as soon as its cell finishes.
+struct SweepCellLog {
+  std::map<int, nlohmann::json> done;
+  std::function<Status(const nlohmann::json& row)> append;
+};
 // Runs cells [first, last): a JSON array, one row per cell, each with "cell".
+// With a log, cells in log->done are not run again (their rows are taken as
+// they are) and every new row is passed to log->append.
 Result<nlohmann::json> runSweepCells(const scenes::Scene& scene, const std::string& sceneLabel,
                                      const scenes::CameraPath& path, const SweepOptions& options,
-                                     int first, int last);
+                                     int first, int last, SweepCellLog* log = nullptr);
 // Merges every cell's row (in cell order) into sweep.json/.csv, plots,
 // overlays and index.html; uniform tiles are kept once per tile size (the
 // first τ in order), as one in-process run writes them.

@@ -76,7 +76,7 @@ void scoreStaleTiles(const Image<std::uint8_t>& age, int staleAfter, int tileSiz
 
 bool chooseRefreshRect(const std::vector<std::uint32_t>& scores, int cols, int rows, int tileSize,
                        int width, int height, long long maxPixels, std::vector<int>& order,
-                       keyframe::PixelRect* out) {
+                       PixelRect* out) {
   HW_CHECK(out != nullptr && tileSize >= 1);
   HW_CHECK_EQ(scores.size(), static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows));
   order.clear();
@@ -88,14 +88,14 @@ bool chooseRefreshRect(const std::vector<std::uint32_t>& scores, int cols, int r
   });
   auto tileRect = [&](int t) {
     const int tx = t % cols, ty = t / cols;
-    return keyframe::PixelRect{tx * tileSize, ty * tileSize, std::min(width, (tx + 1) * tileSize),
+    return PixelRect{tx * tileSize, ty * tileSize, std::min(width, (tx + 1) * tileSize),
                                std::min(height, (ty + 1) * tileSize)};
   };
-  keyframe::PixelRect r = tileRect(order.front());
+  PixelRect r = tileRect(order.front());
   if (r.area() > maxPixels) return false;
   for (std::size_t k = 1; k < order.size(); ++k) {
-    const keyframe::PixelRect t = tileRect(order[k]);
-    const keyframe::PixelRect u{std::min(r.x0, t.x0), std::min(r.y0, t.y0), std::max(r.x1, t.x1),
+    const PixelRect t = tileRect(order[k]);
+    const PixelRect u{std::min(r.x0, t.x0), std::min(r.y0, t.y0), std::max(r.x1, t.x1),
                                 std::max(r.y1, t.y1)};
     if (u.area() <= maxPixels) r = u;
   }
@@ -103,7 +103,7 @@ bool chooseRefreshRect(const std::vector<std::uint32_t>& scores, int cols, int r
   return true;
 }
 
-void clearTileScores(const keyframe::PixelRect& rect, int cols, int tileSize,
+void clearTileScores(const PixelRect& rect, int cols, int tileSize,
                      std::vector<std::uint32_t>& scores) {
   HW_CHECK(tileSize >= 1 && cols >= 1);
   for (int ty = rect.y0 / tileSize; ty * tileSize < rect.y1; ++ty)
@@ -113,7 +113,7 @@ void clearTileScores(const keyframe::PixelRect& rect, int cols, int tileSize,
     }
 }
 
-void applyRefresh(const keyframe::PixelRect& rect, const Image<Rgba8>& colour, Frame& frame) {
+void applyRefresh(const PixelRect& rect, const Image<Rgba8>& colour, Frame& frame) {
   HW_CHECK_EQ(colour.width(), rect.width());
   HW_CHECK_EQ(colour.height(), rect.height());
   HW_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= frame.colour.width() &&

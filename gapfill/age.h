@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/rect.h"
 #include "gapfill/compose.h"
-#include "keyframe/quad_mesh.h"
 
 namespace hw::gapfill {
 
@@ -49,15 +49,15 @@ void scoreStaleTiles(const Image<std::uint8_t>& age, int staleAfter, int tileSiz
 // tile-aligned, cut at the image border.
 bool chooseRefreshRect(const std::vector<std::uint32_t>& scores, int cols, int rows, int tileSize,
                        int width, int height, long long maxPixels, std::vector<int>& order,
-                       keyframe::PixelRect* out);
+                       PixelRect* out);
 
 // Sets the scores of the tiles inside a tile-aligned rectangle to 0 (after
 // it was re-rendered).
-void clearTileScores(const keyframe::PixelRect& rect, int cols, int tileSize,
+void clearTileScores(const PixelRect& rect, int cols, int tileSize,
                      std::vector<std::uint32_t>& scores);
 
 // A re-rendered rectangle: its colour (rect-sized, row 0 = the rect's top)
 // goes into frame.colour, its pixels get age 0 and valid = 1.
-void applyRefresh(const keyframe::PixelRect& rect, const Image<Rgba8>& colour, Frame& frame);
+void applyRefresh(const PixelRect& rect, const Image<Rgba8>& colour, Frame& frame);
 
 }  // namespace hw::gapfill

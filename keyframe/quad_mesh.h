@@ -8,18 +8,14 @@
 #include <glm/glm.hpp>
 
 #include "core/camera.h"
+#include "core/rect.h"
 
 #include "keyframe/delta_buffer.h"
 
 namespace hw::keyframe {
 
-// Pixel rectangle [x0, x1) × [y0, y1) in keyframe image coordinates (row 0 = top).
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  int width() const { return x1 - x0; }
-  int height() const { return y1 - y0; }
-  long long area() const { return static_cast<long long>(width()) * height(); }
-};
+// Leaf rectangles are in keyframe image coordinates (core/rect.h).
+using hw::PixelRect;
 
 struct Quad {
   PixelRect rect;

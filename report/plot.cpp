@@ -485,6 +485,8 @@ struct Layout {
   PlotRect rect;
   Axis x, y;
   int titleScale = kTextScale;
+  int legendRight = 0;  // pixels kept right of the plot area for a legend beside it
+  int legendBelow = 0;  // pixels kept at the bottom for a legend below the axis labels
 };
 
 // Pixel position of the centre of data coordinate t ∈ [0, 1].
@@ -526,6 +528,8 @@ PlotRect rectFromMargins(const Layout& l, const PlotOptions& o) {
   if (!o.xLabel.empty()) bottom += lh + 6;
   int right = kPad + 8;
   if (!l.x.labels.empty()) right = std::max(right, textWidth(l.x.labels.back()) / 2 + kPad);
+  right += l.legendRight;
+  bottom += l.legendBelow;
   PlotRect r;
   r.x0 = std::clamp(left, 0, std::max(0, o.width - 2));
   r.x1 = std::clamp(o.width - right, r.x0 + 1, o.width);
@@ -534,10 +538,13 @@ PlotRect rectFromMargins(const Layout& l, const PlotOptions& o) {
   return r;
 }
 
-Layout computeLayout(const std::vector<Series>& series, const PlotOptions& o) {
+Layout computeLayout(const std::vector<Series>& series, const PlotOptions& o,
+                     int legendRight = 0, int legendBelow = 0) {
   HW_CHECK_GE(o.width, 1);
   HW_CHECK_GE(o.height, 1);
   Layout l;
+  l.legendRight = legendRight;
+  l.legendBelow = legendBelow;
   l.x.log = o.logX;
   l.y.log = o.logY;
   bool any = false;
@@ -694,61 +701,162 @@ Coverage drawSeries(Image<Rgba8>& im, const Layout& l, const Series& s, const St
   return cov;
 }
 
-void drawLegend(Image<Rgba8>& im, const Layout& l, const std::vector<Series>& series,
-                const std::vector<Style>& st, const std::vector<unsigned char>& occupied) {
+// The legend box: its entries (labelled series) and size in pixels.
+struct LegendBox {
   std::vector<std::size_t> entries;
-  int textW = 0;
+  int textW = 0, rowH = 0, w = 0, h = 0;
+};
+constexpr int kLegendInset = 10;  // from the plot frame, pixels
+
+LegendBox legendBox(const std::vector<Series>& series) {
+  LegendBox b;
   for (std::size_t i = 0; i < series.size(); ++i) {
     if (series[i].label.empty()) continue;
-    entries.push_back(i);
-    textW = std::max(textW, textWidth(series[i].label));
+    b.entries.push_back(i);
+    b.textW = std::max(b.textW, textWidth(series[i].label));
   }
-  if (entries.empty()) return;
+  b.rowH = capHeight() + 10;
+  b.w = 10 + 32 + 8 + b.textW + 12;
+  b.h = static_cast<int>(b.entries.size()) * b.rowH + 8;
+  return b;
+}
+
+// The plot-area corner that hides the least data (ties: top-right, top-left,
+// bottom-right, bottom-left) and how many data pixels it hides.
+std::array<int, 2> freestCorner(const Layout& l, const LegendBox& b,
+                                const std::vector<unsigned char>& occupied, long* hiddenOut) {
   const PlotRect& r = l.rect;
-  const int th = capHeight();
-  const int rowH = th + 10, swatchW = 32, inset = 10;
-  const int boxW = 10 + swatchW + 8 + textW + 12;
-  const int boxH = static_cast<int>(entries.size()) * rowH + 8;
-  // The corner that hides the least data; ties go top-right, top-left,
-  // bottom-right, bottom-left.
-  const std::array<std::array<int, 2>, 4> corners{{{r.x1 - inset - boxW, r.y0 + inset},
+  const int inset = kLegendInset;
+  const std::array<std::array<int, 2>, 4> corners{{{r.x1 - inset - b.w, r.y0 + inset},
                                                    {r.x0 + inset, r.y0 + inset},
-                                                   {r.x1 - inset - boxW, r.y1 - inset - boxH},
-                                                   {r.x0 + inset, r.y1 - inset - boxH}}};
+                                                   {r.x1 - inset - b.w, r.y1 - inset - b.h},
+                                                   {r.x0 + inset, r.y1 - inset - b.h}}};
   const int w = r.x1 - r.x0;
   long best = -1;
-  int bx = corners[0][0], by = corners[0][1];
+  std::array<int, 2> at = corners[0];
   for (const auto& c : corners) {
     long hidden = 0;
-    for (int y = std::max(c[1], r.y0); y < std::min(c[1] + boxH, r.y1); ++y) {
-      for (int x = std::max(c[0], r.x0); x < std::min(c[0] + boxW, r.x1); ++x) {
+    for (int y = std::max(c[1], r.y0); y < std::min(c[1] + b.h, r.y1); ++y) {
+      for (int x = std::max(c[0], r.x0); x < std::min(c[0] + b.w, r.x1); ++x) {
         hidden += occupied[static_cast<std::size_t>(y - r.y0) * w + (x - r.x0)];
       }
     }
     if (best < 0 || hidden < best) {
       best = hidden;
-      bx = c[0];
-      by = c[1];
+      at = c;
     }
   }
+  *hiddenOut = best;
+  return at;
+}
+
+// Draws the legend box with its top-left at (bx, by); swatches are clipped
+// to `clip` (the plot area for a legend inside it, the image beside it).
+void drawLegend(Image<Rgba8>& im, const LegendBox& b, int bx, int by, const PlotRect& clip,
+                const std::vector<Series>& series, const std::vector<Style>& st) {
+  const int th = capHeight();
+  const int rowH = b.rowH, swatchW = 32, boxW = b.w, boxH = b.h;
   fillRect(im, bx, by, bx + boxW, by + boxH, kWhite, 0.88);
   fillRect(im, bx, by, bx + boxW, by + 1, kLegendBorder);
   fillRect(im, bx, by + boxH - 1, bx + boxW, by + boxH, kLegendBorder);
   fillRect(im, bx, by, bx + 1, by + boxH, kLegendBorder);
   fillRect(im, bx + boxW - 1, by, bx + boxW, by + boxH, kLegendBorder);
-  for (std::size_t e = 0; e < entries.size(); ++e) {
-    const Series& s = series[entries[e]];
+  for (std::size_t e = 0; e < b.entries.size(); ++e) {
+    const Series& s = series[b.entries[e]];
     const int rowTop = by + 4 + static_cast<int>(e) * rowH;
     const double cy = rowTop + rowH / 2.0;
-    // Swatches stay inside the plot area, like the data.
-    Coverage cov(std::max(bx, r.x0), std::max(rowTop, r.y0), std::min(bx + boxW, r.x1),
-                 std::min(rowTop + rowH, r.y1));
+    Coverage cov(std::max(bx, clip.x0), std::max(rowTop, clip.y0), std::min(bx + boxW, clip.x1),
+                 std::min(rowTop + rowH, clip.y1));
     const double sx0 = bx + 10, sx1 = bx + 10 + swatchW;
     if (s.lines || !s.markers) strokeSegment(cov, sx0, cy, sx1, cy, kLineRadius);
-    if (s.markers) stampMarker(cov, 0.5 * (sx0 + sx1), cy, st[entries[e]].marker);
-    cov.composite(im, st[entries[e]].colour);
+    if (s.markers) stampMarker(cov, 0.5 * (sx0 + sx1), cy, st[b.entries[e]].marker);
+    cov.composite(im, st[b.entries[e]].colour);
     drawText(im, s.label, bx + 10 + swatchW + 8, rowTop + (rowH - th) / 2, kTextColour);
   }
+}
+
+// Axes and series of layout l into im; the plot-area pixels any series covers.
+std::vector<unsigned char> drawData(Image<Rgba8>& im, const Layout& l,
+                                    const std::vector<Series>& series,
+                                    const std::vector<Style>& st, const PlotOptions& o) {
+  drawAxes(im, l, o);
+  const PlotRect& r = l.rect;
+  std::vector<unsigned char> occupied(
+      static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0), 0);
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const Coverage cov = drawSeries(im, l, series[i], st[i], o);
+    for (int y = r.y0; y < r.y1; ++y) {
+      for (int x = r.x0; x < r.x1; ++x) {
+        if (cov.at(x, y) > 0)
+          occupied[static_cast<std::size_t>(y - r.y0) * (r.x1 - r.x0) + (x - r.x0)] = 1;
+      }
+    }
+  }
+  // Point labels: above right of the marker, else left, else below; inside
+  // the plot area or not at all. They count as data for the legend.
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const Series& s = series[i];
+    if (s.pointLabels.size() != s.x.size()) continue;
+    for (std::size_t k = 0; k < s.x.size(); ++k) {
+      const std::string& text = s.pointLabels[k];
+      if (text.empty() || !drawable(s.x[k], s.y[k], o)) continue;
+      const double tx = l.x.t(s.x[k]), ty = l.y.t(s.y[k]);
+      if (!(tx >= 0 && tx <= 1 && ty >= 0 && ty <= 1)) continue;
+      const int px = static_cast<int>(pixelX(r, tx)), py = static_cast<int>(pixelY(r, ty));
+      const int tw = textWidth(text, 1), th = capHeight(1), gap = 6;
+      int x = px + gap, y = py - gap - th;
+      if (x + tw > r.x1) x = px - gap - tw;
+      if (y < r.y0) y = py + gap;
+      if (x < r.x0 || x + tw > r.x1 || y < r.y0 || y + th > r.y1) continue;
+      drawText(im, text, x, y, st[i].colour, 1);
+      for (int yy = y; yy < y + th; ++yy)
+        for (int xx = x; xx < x + tw; ++xx)
+          occupied[static_cast<std::size_t>(yy - r.y0) * (r.x1 - r.x0) + (xx - r.x0)] = 1;
+    }
+  }
+  return occupied;
+}
+
+// The chart and where its legend goes: in the plot-area corner that hides no
+// data; when every corner would hide some, beside the plot area (which then
+// narrows) if it keeps half its width, else below the x axis (the plot area
+// then gets lower) if it keeps half its height; else the corner hiding least.
+struct Rendered {
+  Image<Rgba8> image;
+  Layout layout;
+};
+Rendered render(const std::vector<Series>& series, const PlotOptions& o) {
+  const std::vector<Style> st = styles(series);
+  const LegendBox box = legendBox(series);
+  Rendered out{Image<Rgba8>(o.width, o.height, kWhite), computeLayout(series, o)};
+  std::vector<unsigned char> occupied = drawData(out.image, out.layout, series, st, o);
+  if (box.entries.empty()) return out;
+  long hidden = 0;
+  std::array<int, 2> at = freestCorner(out.layout, box, occupied, &hidden);
+  const int beside = box.w + kLegendInset;
+  const PlotRect& r0 = out.layout.rect;
+  if (hidden > 0 && (r0.x1 - r0.x0) - beside >= (r0.x1 - r0.x0) / 2 &&
+      r0.y0 + box.h <= o.height) {
+    out.layout = computeLayout(series, o, beside);
+    out.image = Image<Rgba8>(o.width, o.height, kWhite);
+    drawData(out.image, out.layout, series, st, o);
+    const PlotRect& r = out.layout.rect;
+    drawLegend(out.image, box, r.x1 + kLegendInset, r.y0, PlotRect{0, 0, o.width, o.height},
+               series, st);
+    return out;
+  }
+  const int below = box.h + 6;
+  if (hidden > 0 && (r0.y1 - r0.y0) - below >= (r0.y1 - r0.y0) / 2 &&
+      r0.x0 + box.w <= o.width) {
+    out.layout = computeLayout(series, o, 0, below);
+    out.image = Image<Rgba8>(o.width, o.height, kWhite);
+    drawData(out.image, out.layout, series, st, o);
+    drawLegend(out.image, box, out.layout.rect.x0, o.height - box.h - 4,
+               PlotRect{0, 0, o.width, o.height}, series, st);
+    return out;
+  }
+  drawLegend(out.image, box, at[0], at[1], out.layout.rect, series, st);
+  return out;
 }
 
 }  // namespace
@@ -762,28 +870,11 @@ const std::vector<Rgba8>& plotPalette() {
 }
 
 PlotRect plotArea(const std::vector<Series>& series, const PlotOptions& options) {
-  return computeLayout(series, options).rect;
+  return render(series, options).layout.rect;
 }
 
 Image<Rgba8> renderPlot(const std::vector<Series>& series, const PlotOptions& options) {
-  const Layout l = computeLayout(series, options);
-  Image<Rgba8> im(options.width, options.height, kWhite);
-  drawAxes(im, l, options);
-  const std::vector<Style> st = styles(series);
-  const PlotRect& r = l.rect;
-  std::vector<unsigned char> occupied(
-      static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(r.y1 - r.y0), 0);
-  for (std::size_t i = 0; i < series.size(); ++i) {
-    const Coverage cov = drawSeries(im, l, series[i], st[i], options);
-    for (int y = r.y0; y < r.y1; ++y) {
-      for (int x = r.x0; x < r.x1; ++x) {
-        if (cov.at(x, y) > 0)
-          occupied[static_cast<std::size_t>(y - r.y0) * (r.x1 - r.x0) + (x - r.x0)] = 1;
-      }
-    }
-  }
-  drawLegend(im, l, series, st, occupied);
-  return im;
+  return render(series, options).image;
 }
 
 Status writePlot(const std::string& pngPath, const std::vector<Series>& series,

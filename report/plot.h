@@ -20,6 +20,10 @@ struct Series {
   bool lines = true;  // polyline through the points, broken at skipped points
   bool markers = true;
   Marker marker = Marker::kAuto;  // kAuto cycles circle, square, diamond by series index
+  // Text beside each point (e.g. its τ), small, in the series colour; empty =
+  // none, else one per point ("" = no text). Labels that do not fit inside
+  // the plot area are left out.
+  std::vector<std::string> pointLabels{};
 };
 
 // All defaults work. Unset axis bounds come from the drawable data, padded by
@@ -35,8 +39,8 @@ struct PlotOptions {
 };
 
 // Where the data lands: the inner plot area in pixels, [x0, x1) × [y0, y1),
-// row 0 at the top. Series pixels (lines, markers, legend swatches) lie only
-// inside it.
+// row 0 at the top. Series pixels (lines, markers) lie only inside it, and
+// so do legend swatches unless the legend stands beside it (renderPlot).
 struct PlotRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
@@ -45,7 +49,11 @@ struct PlotRect {
 // Renders the chart on a white background. Points with a non-finite
 // coordinate, or a non-positive one on a log axis, are skipped (the line is
 // broken there). Lines and markers are clipped to the plot area. Labelled
-// series get a legend entry in the plot-area corner that hides the least data.
+// series get a legend entry: in a plot-area corner where it hides no data,
+// else beside the plot area, right of it (the plot area narrows; only when
+// it keeps at least half its width), else below the x axis (the plot area
+// gets lower; only when it keeps half its height), else in the corner
+// hiding the least.
 Image<Rgba8> renderPlot(const std::vector<Series>& series, const PlotOptions& options);
 
 // The plot area renderPlot() uses for the same arguments.

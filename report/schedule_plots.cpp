@@ -14,13 +14,13 @@ namespace hw::report {
 using nlohmann::json;
 using session::CalibrationWalk;
 
-Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& plan,
+Status writeVerifyPlot(const std::string& outDir, const session::VerifiedPlan& plan,
                        int referenceKeyframes, const std::string& referenceLabel) {
   Series planned, guaranteed, reference;
   planned.label = "the round's plan (measured + predicted)";
   guaranteed.label = "guaranteed by measured frames";
   double x = 0;
-  for (const keyframe::VerifyRound& r : plan.rounds) {
+  for (const session::VerifyRound& r : plan.rounds) {
     planned.x.push_back(x);
     planned.y.push_back(r.keyframes);
     guaranteed.x.push_back(x);
@@ -50,7 +50,7 @@ Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& 
 
 
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
+                        const session::PredictorCalibration& fit, session::Predictor predictor,
                         const std::vector<double>& frameOffsetDb) {
   std::string csv = "spacing,k0,k1,frame,psnr,predicted,offset\n";
   char line[200];
@@ -58,7 +58,7 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
     const auto& s = cal.samples[i];
     std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f,%.4f\n", cal.spacing[i], s.k0, s.k1,
                   s.frame, s.psnrDb, i < fit.predictedDb.size() ? fit.predictedDb[i] : std::nan(""),
-                  keyframe::pathOffsetAt(frameOffsetDb, s.frame));
+                  session::pathOffsetAt(frameOffsetDb, s.frame));
     csv += line;
   }
   if (auto st = writeFileAtomic(outDir + "/calibration.csv", csv); !st) return st;
@@ -89,7 +89,7 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
   PlotOptions po;
   char title[200];
   std::snprintf(title, sizeof title, "%s refit: residual sd %.2f dB, Spearman %.3f",
-                keyframe::predictorName(predictor), fit.residualStdDb, fit.spearman);
+                session::predictorName(predictor), fit.residualStdDb, fit.spearman);
   po.title = title;
   po.xLabel = "predicted PSNR of the in-between frame, dB";
   po.yLabel = "measured PSNR, dB";
@@ -153,5 +153,35 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
   return median(std::move(predicted));  // NaN when empty
 }
 
+
+Status writePlannedWalkPlots(const std::string& outDir, const session::PlannedWalk& planned) {
+  if (planned.calibration) {
+    HW_TRY(ensureWritableDir(outDir));
+    HW_TRY(writeCalibration(outDir, *planned.calibration, planned.calibrationFit,
+                            planned.predictor, planned.calibrationOffsetDb));
+  }
+  if (planned.verified)
+    HW_TRY(writeVerifyPlot(outDir, *planned.verified, planned.referenceKeyframes,
+                           planned.referenceLabel));
+  return {};
+}
+
+Status addPlannerToWalkReport(const std::string& outDir, const session::PlannedWalk& planned) {
+  using nlohmann::json;
+  const std::string path = outDir + "/report.json";
+  auto text = readFile(path);
+  if (!text) return text.error();
+  json report = json::parse(*text, nullptr, false);
+  if (report.is_discarded()) return makeError("cannot parse " + path);
+  report["summary"]["keyframe_schedule"] = "adaptive";
+  auto predMedian =
+      writePlannedFrames(outDir, planned.predicted, report["frames"], planned.targetPsnrDb,
+                         report["summary"]["keyframe_frames"].get<std::vector<int>>());
+  if (!predMedian) return predMedian.error();
+  json planner = planned.planner;
+  planner["predicted_psnr_median"] = std::isfinite(*predMedian) ? json(*predMedian) : json(nullptr);
+  report["summary"]["planner"] = planner;
+  return writeFileAtomic(path, report.dump(1));
+}
 
 }  // namespace hw::report

@@ -8,7 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
+#include "session/planned_walk.h"
 #include "session/schedule_calibration.h"
 
 namespace hw::report {
@@ -21,7 +22,7 @@ using session::ScheduleCalibration;
 // calibration.png (predicted vs measured, one colour per walk, the line
 // measured = predicted) into outDir, atomically.
 Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const keyframe::PredictorCalibration& fit, keyframe::Predictor predictor,
+                        const session::PredictorCalibration& fit, session::Predictor predictor,
                         const std::vector<double>& frameOffsetDb = {});
 
 // planned.csv (frame,k0,k1,predicted,measured) and planned.png (both along
@@ -34,7 +35,16 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
 // verify.png into outDir: each round of a verified plan against the frames
 // measured before it, its plan's keyframes and the guaranteed schedule's;
 // referenceKeyframes (> 0) as a line, labelled referenceLabel.
-Status writeVerifyPlot(const std::string& outDir, const keyframe::VerifiedPlan& plan,
+Status writeVerifyPlot(const std::string& outDir, const session::VerifiedPlan& plan,
                        int referenceKeyframes, const std::string& referenceLabel);
+
+// A planned walk's pictures, before the walk: calibration.csv/png (when it
+// calibrated) and verify.png (when it verified) into outDir (created).
+Status writePlannedWalkPlots(const std::string& outDir, const session::PlannedWalk& planned);
+
+// After the walk: planned.csv/png, and outDir/report.json's summary gains
+// keyframe_schedule "adaptive" and planner (planned.planner with the
+// predicted median), rewritten atomically.
+Status addPlannerToWalkReport(const std::string& outDir, const session::PlannedWalk& planned);
 
 }  // namespace hw::report

@@ -37,7 +37,7 @@ WalkOptions measuringWalk(const WalkOptions& base, int frames, bool progress) {
 
 // The walk report's in-between frames into `out` by segment (a null PSNR:
 // identical to the reference, counted kProbePsnrCap as the walk counts it).
-void addMeasured(const json& frames, keyframe::MeasuredSegments& out) {
+void addMeasured(const json& frames, session::MeasuredSegments& out) {
   for (const json& f : frames) {
     if (f["is_keyframe"].get<bool>()) continue;
     const int k0 = f["keyframes"][0].get<int>(), k1 = f["keyframes"][1].get<int>();
@@ -46,7 +46,7 @@ void addMeasured(const json& frames, keyframe::MeasuredSegments& out) {
     v.resize(static_cast<std::size_t>(std::max(k1 - k0 - 1, 0)), std::nan(""));
     if (i > k0 && i < k1)
       v[static_cast<std::size_t>(i - k0 - 1)] =
-          f["psnr"].is_number() ? f["psnr"].get<double>() : keyframe::kProbePsnrCap;
+          f["psnr"].is_number() ? f["psnr"].get<double>() : session::kProbePsnrCap;
   }
 }
 
@@ -55,7 +55,7 @@ void addMeasured(const json& frames, keyframe::MeasuredSegments& out) {
 Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel,
                        const scenes::CameraPath& path, int frames,
                        const std::vector<std::pair<int, int>>& segments, const WalkOptions& base,
-                       keyframe::MeasuredSegments& out) {
+                       session::MeasuredSegments& out) {
   if (segments.empty()) return {};
   WalkOptions o = measuringWalk(base, frames, false);
   o.onlySegments = segments;
@@ -68,7 +68,7 @@ Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel
                          o.keyframeFrames.end());
   auto res = runWalk(scene, sceneLabel, path, o);
   if (!res) return res.error();
-  keyframe::MeasuredSegments got;
+  session::MeasuredSegments got;
   addMeasured(res->report["frames"], got);
   for (const auto& s : segments) {
     if (s.second - s.first < 2) continue;  // no in-between frame
@@ -114,7 +114,7 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
       // Identical to the reference (PSNR +inf, null in the report): no error
       // to fit; a stand-in like the walk's 99 dB would pull the line.
       if (!f["psnr"].is_number()) continue;
-      keyframe::CalibrationSample s;
+      session::CalibrationSample s;
       s.k0 = f["keyframes"][0].get<int>();
       s.k1 = f["keyframes"][1].get<int>();
       s.frame = f["index"].get<int>();
@@ -129,23 +129,23 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
   return cal;
 }
 
-Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
-                                                  keyframe::Predictor predictor,
-                                                  const keyframe::PsnrFit& fit,
+Result<std::vector<PlannedFrame>> predictSchedule(session::KeyframeProbe& probe,
+                                                  session::Predictor predictor,
+                                                  const session::PsnrFit& fit,
                                                   const std::vector<int>& keyframes,
                                                   const std::vector<double>& frameOffsetDb) {
   std::vector<PlannedFrame> out;
   for (std::size_t j = 1; j < keyframes.size(); ++j)
     for (int f = keyframes[j - 1] + 1; f < keyframes[j]; ++f) {
-      auto ff = keyframe::predictorFeatures(probe, predictor, keyframes[j - 1], keyframes[j], f);
+      auto ff = session::predictorFeatures(probe, predictor, keyframes[j - 1], keyframes[j], f);
       if (!ff) return ff.error();
       out.push_back({f, keyframes[j - 1], keyframes[j],
-                     keyframe::predictPsnr(fit, *ff, predictor) + keyframe::pathOffsetAt(frameOffsetDb, f)});
+                     session::predictPsnr(fit, *ff, predictor) + session::pathOffsetAt(frameOffsetDb, f)});
     }
   return out;
 }
 
-json fitJson(const keyframe::PsnrFit& f) {
+json fitJson(const session::PsnrFit& f) {
   json j = {{"intercept", finiteOrNull(f.intercept)},
             {"slope", finiteOrNull(f.slope)},
             {"slope2", finiteOrNull(f.slope2)}};
@@ -157,7 +157,7 @@ json fitJson(const keyframe::PsnrFit& f) {
   return j;
 }
 
-json calibrationJson(const ScheduleCalibration& cal, const keyframe::PredictorCalibration& fit) {
+json calibrationJson(const ScheduleCalibration& cal, const session::PredictorCalibration& fit) {
   json walks = json::array();
   for (const CalibrationWalk& w : cal.walks)
     walks.push_back({{"spacing", w.spacing},

@@ -14,7 +14,7 @@
 
 #include "session/walk.h"
 #include "core/result.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
@@ -36,12 +36,12 @@ struct ScheduleCalibration {
   // Every in-between frame of every walk with a finite PSNR (a frame
   // identical to the reference has no error to fit; a frame in several walks
   // appears once per walk); spacing[i] is the walk samples[i] came from.
-  std::vector<keyframe::CalibrationSample> samples;
+  std::vector<session::CalibrationSample> samples;
   std::vector<int> spacing;
   // Every in-between frame of every walk by segment, identical frames
   // counting kProbePsnrCap (99 dB) as the walk's statistics count them: what
   // the verified planner starts from.
-  keyframe::MeasuredSegments measured;
+  session::MeasuredSegments measured;
 };
 
 // Walks the first `frames` frames of `path` once per spacing (each in
@@ -62,7 +62,7 @@ Result<ScheduleCalibration> runCalibrationWalks(const scenes::Scene& scene,
 Status measureSegments(const scenes::Scene& scene, const std::string& sceneLabel,
                        const scenes::CameraPath& path, int frames,
                        const std::vector<std::pair<int, int>>& segments, const WalkOptions& base,
-                       keyframe::MeasuredSegments& out);
+                       session::MeasuredSegments& out);
 
 
 
@@ -76,18 +76,18 @@ struct PlannedFrame {
 };
 // Predictions of every in-between frame of `keyframes` (sorted, first 0),
 // with frameOffsetDb[frame] added as the planner adds it (empty = none).
-Result<std::vector<PlannedFrame>> predictSchedule(keyframe::KeyframeProbe& probe,
-                                                  keyframe::Predictor predictor,
-                                                  const keyframe::PsnrFit& fit,
+Result<std::vector<PlannedFrame>> predictSchedule(session::KeyframeProbe& probe,
+                                                  session::Predictor predictor,
+                                                  const session::PsnrFit& fit,
                                                   const std::vector<int>& keyframes,
                                                   const std::vector<double>& frameOffsetDb = {});
 
 // A predictor fit as JSON: {"intercept", "slope", "slope2"} (null when not
 // finite), and "more" (the slopes of regressors 3..) only when the fit has them.
-nlohmann::json fitJson(const keyframe::PsnrFit& f);
+nlohmann::json fitJson(const session::PsnrFit& f);
 
 // The report's summary.planner.calibration block.
 nlohmann::json calibrationJson(const ScheduleCalibration& cal,
-                               const keyframe::PredictorCalibration& fit);
+                               const session::PredictorCalibration& fit);
 
 }  // namespace hw::session

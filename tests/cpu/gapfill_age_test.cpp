@@ -97,7 +97,7 @@ TEST(PixelAge, RefreshRectTakesTheOldestTilesWithinThePixelBound) {
   scores[1] = 40;       // tile (1, 0)
   scores[15] = 45;      // tile (3, 3): far corner, cut to 6 px wide
   std::vector<int> order;
-  keyframe::PixelRect r;
+  PixelRect r;
   // Room for two tiles: (0,0) then (1,0); (3,3) would need the whole image.
   ASSERT_TRUE(chooseRefreshRect(scores, cols, rows, tile, 30, 32, 2 * 64, order, &r));
   EXPECT_EQ(r.x0, 0);
@@ -111,7 +111,7 @@ TEST(PixelAge, RefreshRectTakesTheOldestTilesWithinThePixelBound) {
   // Less than one tile: nothing.
   EXPECT_FALSE(chooseRefreshRect(scores, cols, rows, tile, 30, 32, 63, order, &r));
   // After the refresh its tiles score 0; the corner is next.
-  clearTileScores(keyframe::PixelRect{0, 0, 16, 8}, cols, tile, scores);
+  clearTileScores(PixelRect{0, 0, 16, 8}, cols, tile, scores);
   EXPECT_EQ(scores[0], 0u);
   EXPECT_EQ(scores[1], 0u);
   ASSERT_TRUE(chooseRefreshRect(scores, cols, rows, tile, 30, 32, 64, order, &r));
@@ -130,7 +130,7 @@ TEST(PixelAge, ApplyRefreshCopiesColourAndResetsAge) {
   Image<Rgba8> patch(2, 2);
   patch.fill(Rgba8{200, 100, 50, 255});
   patch(1, 1) = Rgba8{7, 8, 9, 255};
-  applyRefresh(keyframe::PixelRect{2, 1, 4, 3}, patch, f);
+  applyRefresh(PixelRect{2, 1, 4, 3}, patch, f);
   EXPECT_EQ(f.colour(2, 1), (Rgba8{200, 100, 50, 255}));
   EXPECT_EQ(f.colour(3, 2), (Rgba8{7, 8, 9, 255}));
   EXPECT_EQ(f.colour(1, 1), (Rgba8{1, 2, 3, 255}));

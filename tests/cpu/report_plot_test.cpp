@@ -84,6 +84,41 @@ TEST(Plot, SeriesColourOnlyInsidePlotArea) {
   EXPECT_EQ(n.outside, 0);
 }
 
+// Data through every corner of the plot area (an X and a frame): no corner
+// is free, so the legend stands beside the plot area and hides nothing; its
+// swatch is the only series colour outside the plot area.
+TEST(Plot, LegendGoesBesideThePlotWhenEveryCornerHoldsData) {
+  PlotOptions o;
+  o.xMin = 0, o.xMax = 1, o.yMin = 0, o.yMax = 1;
+  Series s = line("series a", {0, 1, 1, 0, 0, 1}, {0, 1, 0, 1, 0, 0});
+  s.markers = false;
+  s.colour = Rgba8{200, 30, 30, 255};
+  const PlotRect inside = plotArea({}, o);
+  const PlotRect r = plotArea({s}, o);
+  EXPECT_LT(r.x1, inside.x1);  // narrowed to make room
+  const Image<Rgba8> im = renderPlot({s}, o);
+  const Count n = countColour(im, r, s.colour);
+  EXPECT_GT(n.inside, 100);
+  EXPECT_GT(n.outside, 0);  // the swatch
+  for (int y = 0; y < im.height(); ++y) {
+    for (int x = 0; x < r.x1 + 2; ++x) {
+      if (im(x, y) == s.colour) {
+        EXPECT_TRUE(r.contains(x, y)) << x << "," << y;
+      }
+    }
+  }
+}
+
+// Data in one corner only: the legend stays inside, in a free corner.
+TEST(Plot, LegendStaysInAFreeCorner) {
+  PlotOptions o;
+  o.xMin = 0, o.xMax = 1, o.yMin = 0, o.yMax = 1;
+  Series s = line("label", {0, 0.2}, {0, 0.2});
+  s.colour = Rgba8{30, 30, 200, 255};
+  EXPECT_EQ(plotArea({s}, o).x1, plotArea({}, o).x1);
+  EXPECT_EQ(countColour(renderPlot({s}, o), plotArea({s}, o), s.colour).outside, 0);
+}
+
 TEST(Plot, AutomaticColoursComeFromThePalette) {
   const std::vector<Series> all{line("a", {0, 1}, {0, 1}), line("b", {0, 1}, {1, 0})};
   PlotOptions o;
@@ -94,8 +129,15 @@ TEST(Plot, AutomaticColoursComeFromThePalette) {
   const Count n0 = countColour(im, r, c0), n1 = countColour(im, r, c1);
   EXPECT_GT(n0.inside, 100);
   EXPECT_GT(n1.inside, 100);
-  EXPECT_EQ(n0.outside, 0);
-  EXPECT_EQ(n1.outside, 0);
+  // The X reaches every corner, so the legend stands right of the plot area:
+  // its swatches are the only series pixels outside it.
+  for (int y = 0; y < im.height(); ++y) {
+    for (int x = 0; x <= r.x1; ++x) {
+      if (im(x, y) == c0 || im(x, y) == c1) {
+        EXPECT_TRUE(r.contains(x, y)) << x << "," << y;
+      }
+    }
+  }
 }
 
 TEST(Plot, LinesAreClippedToThePlotArea) {

@@ -1,5 +1,5 @@
 // schedule-study's `auto` predictor on OSMesa: the probe predictors
-// (keyframe::kProbePredictors, which need KeyframeProbe::probeError) are
+// (session::kProbePredictors, which need KeyframeProbe::probeError) are
 // candidates next to the feature ones; their correlations are in
 // schedule.json and their regressor in frames.csv, and the planner gets the
 // usable predictor whose fit ranks the fixed walks' frames best.
@@ -12,7 +12,7 @@
 
 #include "bench/schedule_study.h"
 #include "gl_fixture.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/procedural.h"
 
 namespace hw {
@@ -47,19 +47,19 @@ TEST_F(ScheduleStudyTest, AutoPredictorWeighsTheProbePredictorsToo) {
     EXPECT_EQ(c["samples"].get<std::size_t>(), samples) << c.dump();
   }
   EXPECT_GT(samples, 0u);
-  for (keyframe::Predictor p : keyframe::kAllPredictors)
-    EXPECT_EQ(names.count(keyframe::predictorName(p)), 1u) << keyframe::predictorName(p);
-  for (keyframe::Predictor p : keyframe::kProbePredictors)
-    EXPECT_EQ(names.count(keyframe::predictorName(p)), 1u) << keyframe::predictorName(p);
+  for (session::Predictor p : session::kAllPredictors)
+    EXPECT_EQ(names.count(session::predictorName(p)), 1u) << session::predictorName(p);
+  for (session::Predictor p : session::kProbePredictors)
+    EXPECT_EQ(names.count(session::predictorName(p)), 1u) << session::predictorName(p);
   EXPECT_EQ(names.size(),
-            std::size(keyframe::kAllPredictors) + std::size(keyframe::kProbePredictors));
+            std::size(session::kAllPredictors) + std::size(session::kProbePredictors));
 
   // The probe predictors' fits are usable here: PSNR falls as the probe
   // error grows, and their rank correlation is a number.
   for (const json& c : (*doc)["correlation"]) {
-    keyframe::Predictor p;
-    ASSERT_TRUE(keyframe::parsePredictor(c["predictor"].get<std::string>().c_str(), &p));
-    if (!keyframe::isProbePredictor(p)) continue;
+    session::Predictor p;
+    ASSERT_TRUE(session::parsePredictor(c["predictor"].get<std::string>().c_str(), &p));
+    if (!session::isProbePredictor(p)) continue;
     ASSERT_TRUE(c["spearman_pooled"].is_number()) << c.dump();
     ASSERT_TRUE(c["fit"]["slope"].is_number()) << c.dump();
     EXPECT_LT(c["fit"]["slope"].get<double>(), 0.0) << c.dump();
@@ -85,9 +85,9 @@ TEST_F(ScheduleStudyTest, AutoPredictorWeighsTheProbePredictorsToo) {
   // On this path the probes' own warp ranks the frames best (Spearman 0.97
   // for probe-psnr against 0.94 for holes; probe-psnr+distance's is as high,
   // but its fitted distance term rises, so it is not usable).
-  keyframe::Predictor chosen;
-  ASSERT_TRUE(keyframe::parsePredictor(planner["predictor"].get<std::string>().c_str(), &chosen));
-  EXPECT_TRUE(keyframe::isProbePredictor(chosen)) << planner.dump();
+  session::Predictor chosen;
+  ASSERT_TRUE(session::parsePredictor(planner["predictor"].get<std::string>().c_str(), &chosen));
+  EXPECT_TRUE(session::isProbePredictor(chosen)) << planner.dump();
 
   // The chosen predictor predicts every run's frames (a probe predictor
   // without probeMse would predict NaN, written as null).

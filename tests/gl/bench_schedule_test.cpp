@@ -10,7 +10,7 @@
 #include "session/walk.h"
 #include "gl_fixture.h"
 #include "keyframe/geometry_renderer.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/procedural.h"
 
 namespace hw {
@@ -32,7 +32,7 @@ TEST_F(ScheduleTest, ProbeFeaturesVanishAtTheKeyframeAndGrowAwayFromIt) {
   const scenes::CameraPath path = shortPath();
   auto r = keyframe::GeometryRenderer::create(scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  keyframe::KeyframeProbe probe(
+  session::KeyframeProbe probe(
       **r, [&](int i) { return path.cameraAt(i); }, 64);
   // Frame 0 seen from keyframes 0 and 39: the first one covers it exactly.
   auto at = probe.features(0, 39, 0);
@@ -65,14 +65,14 @@ TEST_F(ScheduleTest, LaxTargetUsesFewerKeyframesThanFixedAndStrictMoreWithBetter
   const int fixedKeys = fixed->report["summary"]["keyframes"].get<int>();
   ASSERT_EQ(fixedKeys, 5);
 
-  keyframe::PlannerOptions po;
+  session::PlannerOptions po;
   po.minGap = 2;
   po.maxGap = 30;
   po.targetPsnrDb = 10;  // lax
-  auto lax = keyframe::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
+  auto lax = session::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
   ASSERT_TRUE(lax.ok()) << lax.error().message;
   po.targetPsnrDb = 40;  // strict
-  auto strict = keyframe::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
+  auto strict = session::planAdaptiveSchedule(**r, cameraOf, path.frames, po);
   ASSERT_TRUE(strict.ok()) << strict.error().message;
   EXPECT_GT(lax->probes, 0);
   EXPECT_GT(lax->evaluations, 0);

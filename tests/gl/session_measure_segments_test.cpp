@@ -9,7 +9,7 @@
 #include "session/schedule_calibration.h"
 #include "session/walk.h"
 #include "gl_fixture.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/procedural.h"
 
 namespace hw {
@@ -41,7 +41,7 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
   for (const auto& f : whole->report["frames"])
     if (!f["is_keyframe"].get<bool>())
       psnr[f["index"].get<int>()] =
-          f["psnr"].is_number() ? f["psnr"].get<double>() : keyframe::kProbePsnrCap;
+          f["psnr"].is_number() ? f["psnr"].get<double>() : session::kProbePsnrCap;
   ASSERT_EQ(psnr.size(), 35u);
 
   // Only (7, 15) and (26, 39): their frames and keyframes, nothing else.
@@ -62,7 +62,7 @@ TEST_F(MeasureSegmentsTest, SegmentsWalkedAloneGiveTheWholeWalksFrames) {
 
   // measureSegments: the same frames, by segment; the schedule's other
   // keyframes are not needed (it puts keyframes at the segments' ends only).
-  keyframe::MeasuredSegments m;
+  session::MeasuredSegments m;
   ASSERT_TRUE(
       session::measureSegments(scene, "indoor", path, 40, {{7, 15}, {26, 39}, {2, 5}}, options(), m)
           .ok());
@@ -92,7 +92,7 @@ TEST_F(MeasureSegmentsTest, SegmentsThatAreNotConsecutiveKeyframesAreErrors) {
   wo.onlySegments = {{30, 45}};  // past the path
   EXPECT_FALSE(session::runWalk(scene, "indoor", path, wo).ok());
   // Overlapping segments cannot both be walked: one's end lies in the other.
-  keyframe::MeasuredSegments m;
+  session::MeasuredSegments m;
   auto st = session::measureSegments(scene, "indoor", path, 40, {{7, 15}, {10, 20}}, options(), m);
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("consecutive keyframes"), std::string::npos)

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "keyframe/geometry_renderer.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 
-namespace hw::keyframe {
+namespace hw::session {
 namespace {
+
+using namespace hw::keyframe;  // the renderer interface the probe draws with
 
 // Wall at eye depth 20 (world z = −20) behind two wide pillars at depth 6
 // with a gap |x| < 0.5 between them; the cameras look down −z from z = 0, so
@@ -237,4 +239,4 @@ TEST(KeyframeProbePsnr, CalibrationRecoversTheLineAndItsSpread) {
 }
 
 }  // namespace
-}  // namespace hw::keyframe
+}  // namespace hw::session

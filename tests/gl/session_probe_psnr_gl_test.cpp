@@ -7,7 +7,7 @@
 
 #include "gl_fixture.h"
 #include "keyframe/geometry_renderer.h"
-#include "keyframe/keyframe_planner.h"
+#include "session/keyframe_planner.h"
 #include "scenes/procedural.h"
 
 namespace hw {
@@ -30,15 +30,15 @@ TEST_F(ProbePsnrGlTest, NoErrorAtAKeyframeAndNearKeyframesRankAboveFarOnes) {
   ASSERT_TRUE(r.ok()) << r.error().message;
   for (int ss : {1, 2})
     for (bool fill : {false, true}) {
-      keyframe::ProbeErrorOptions eo;
+      session::ProbeErrorOptions eo;
       eo.supersample = ss;
       eo.previousFill = fill;
-      keyframe::KeyframeProbe probe(**r, [&](int i) { return path.cameraAt(i); }, 64, eo);
+      session::KeyframeProbe probe(**r, [&](int i) { return path.cameraAt(i); }, 64, eo);
       // Frame 10 is keyframe 10's own camera.
       auto at = probe.probeError(10, 20, 10);
       ASSERT_TRUE(at.ok()) << at.error().message;
       EXPECT_EQ(*at, 0.0) << "supersample " << ss << ", fill " << fill;
-      EXPECT_EQ(keyframe::probePsnrDb(*at), keyframe::kProbePsnrCap);
+      EXPECT_EQ(session::probePsnrDb(*at), session::kProbePsnrCap);
       // Frame 20 between its neighbours against keyframes 19 frames away.
       auto nearE = probe.probeError(19, 21, 20);
       auto farE = probe.probeError(1, 39, 20);
