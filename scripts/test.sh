@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Install what is missing, build, and run the whole test suite:
 #  1. release build (warnings as errors): every CTest (CPU, GL on OSMesa, the
-#     windowed GLFW tests under Xvfb, command-line tests);
+#     windowed GLFW tests under Xvfb, command-line tests); then the library
+#     installed without tests and both examples built against it
+#     (scripts/test_install.sh);
 #  2. the CPU tests again under AddressSanitizer + UBSan (asan preset);
 #  3. each libFuzzer target for a bounded time from its committed seed corpus.
 # HW_TEST_QUICK=1 runs step 1 only. HW_FUZZ_SECONDS sets step 3's time per target.
@@ -22,6 +24,8 @@ trap 'rm -f "$log"' EXIT
 # the viewer tests close one window and open the next, two at a time. Seen
 # twice in CI (ViewerAsync tests, sessions 6 and 7); xorg/xserver issue 1102.
 (cd build && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j 2 --timeout 600) | tee -a "$log"
+echo "== the installed library: examples built with find_package(hybridwalk)"
+bash scripts/test_install.sh
 [ "${HW_TEST_QUICK:-0}" = 1 ] && exit 0
 
 echo "== CPU tests under AddressSanitizer + UndefinedBehaviorSanitizer"
