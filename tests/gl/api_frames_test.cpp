@@ -4,6 +4,7 @@
 // with the geometry renderer's; bad input as errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -101,8 +102,10 @@ TEST(ApiFrames, PathFramesAreTheWalksWithOtherOptions) {
 TEST(ApiFrames, FreeCameraFramesAreCloseToGeometry) {
   auto scene = hwa::Scene::load("indoor:20k");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  const auto in = hw::test::smallIndoor("indoor:20k", 160, 40, 10);
-  const hwa::Path path = apiPath(in.path);
+  // The default path's own speed (120 frames), its first 60 frames.
+  const auto in = hw::test::smallIndoor("indoor:20k", 160, 120, 10);
+  hwa::Path path = apiPath(in.path);
+  path.cameras.resize(60);
   hwa::RendererDesc desc;
   desc.depth = true;
   desc.keyframes.distance = 1.0;
@@ -115,7 +118,9 @@ TEST(ApiFrames, FreeCameraFramesAreCloseToGeometry) {
     auto st = r->render(path.cameras[i], f);
     ASSERT_TRUE(st.ok()) << st.error().message;
     ASSERT_TRUE(r->renderGeometry(path.cameras[i], ref).ok());
-    if (i == 0) EXPECT_EQ(f.stats.kind, hwa::FrameKind::Keyframe);  // nothing to warp yet
+    if (i == 0) {
+      EXPECT_EQ(f.stats.kind, hwa::FrameKind::Keyframe);  // nothing to warp yet
+    }
     keyframes += f.stats.kind == hwa::FrameKind::Keyframe;
     built += f.stats.keyframesBuilt;
     ASSERT_EQ(f.depth.size(), static_cast<std::size_t>(f.width) * f.height);
@@ -127,21 +132,22 @@ TEST(ApiFrames, FreeCameraFramesAreCloseToGeometry) {
     }
     EXPECT_GT(f.stats.quads, 0);
     psnrs.push_back(hwa::psnr(f, ref));
-    // Depth where both see something: within 5 % of the geometry's for most pixels.
-    std::size_t both = 0, close = 0;
+    // Depth where both see something: relative error median under 1 %, and
+    // under 10 % but for depth edges (a tenth of the pixels at most).
+    std::vector<float> rel;
     for (std::size_t p = 0; p < f.depth.size(); ++p)
-      if (f.depth[p] > 0 && ref.depth[p] > 0) {
-        ++both;
-        close += std::abs(f.depth[p] - ref.depth[p]) <= 0.05f * ref.depth[p];
-      }
-    ASSERT_GT(both, f.depth.size() / 2) << "frame " << i;
-    EXPECT_GT(static_cast<double>(close) / static_cast<double>(both), 0.95) << "frame " << i;
+      if (f.depth[p] > 0 && ref.depth[p] > 0)
+        rel.push_back(std::abs(f.depth[p] - ref.depth[p]) / ref.depth[p]);
+    ASSERT_GT(rel.size(), f.depth.size() / 2) << "frame " << i;
+    std::sort(rel.begin(), rel.end());
+    EXPECT_LT(rel[rel.size() / 2], 0.01f) << "frame " << i;
+    EXPECT_LT(rel[rel.size() * 9 / 10], 0.1f) << "frame " << i;
   }
   ASSERT_GT(psnrs.size(), path.cameras.size() / 2) << "few frames were warped";
   std::sort(psnrs.begin(), psnrs.end());
   EXPECT_GT(psnrs[psnrs.size() / 2], 24.0);
   EXPECT_GT(built, 1);
-  EXPECT_LT(built, static_cast<int>(path.cameras.size()) / 2);
+  EXPECT_LT(built, static_cast<int>(path.cameras.size()) / 3);
   std::printf("free camera: %zu frames, %d shown keyframes, %d built, median PSNR %.2f dB\n",
               path.cameras.size(), keyframes, built, psnrs[psnrs.size() / 2]);
 }
