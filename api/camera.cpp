@@ -1,11 +1,12 @@
 // Public cameras and paths: conversions and checks.
+#include "hybridwalk/camera.h"
+
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include "api/internal.h"
 #include "core/result.h"
-#include "hybridwalk/camera.h"
 #include "scenes/camera_path.h"
 
 namespace hybridwalk {
@@ -72,7 +73,8 @@ Result<Camera> Camera::lookAt(const Vec3& eye, const Vec3& target, const Vec3& u
                               double farPlane) {
   const glm::dvec3 e = detail::toGlm(eye), t = detail::toGlm(target), u = detail::toGlm(upHint);
   for (double v : {e.x, e.y, e.z, t.x, t.y, t.z, u.x, u.y, u.z})
-    if (!std::isfinite(v)) return hw::makeError("Camera::lookAt: eye, target and up must be finite");
+    if (!std::isfinite(v))
+      return hw::makeError("Camera::lookAt: eye, target and up must be finite");
   const glm::dvec3 d = t - e;
   if (!(glm::length(d) > 0)) return hw::makeError("Camera::lookAt: target equals eye");
   if (!(glm::length(u) > 0) || glm::length(glm::cross(glm::normalize(d), glm::normalize(u))) < 1e-9)

@@ -6,11 +6,10 @@
 
 #include <cmath>
 #include <cstring>
+#include <glm/glm.hpp>
 #include <limits>
 #include <string>
 #include <utility>
-
-#include <glm/glm.hpp>
 
 #include "api/gl/glue.h"
 #include "api/internal.h"
@@ -71,8 +70,10 @@ hw::Status mapOptions(const RendererDesc& d, hw::session::WalkOptions& w) {
     return bad("lod.tauParallaxPx", l.tauParallaxPx, "a finite number >= 0");
   if (l.tau > 0) w.lod.tau = l.tau;
   if (l.tauParallaxPx > 0) w.lod.tauParallaxPx = l.tauParallaxPx;
-  if (l.criterion == Criterion::FivePoint) w.lod.criterion = hw::keyframe::DeltaCriterion::FivePoint;
-  if (l.criterion == Criterion::PerAxisMax) w.lod.criterion = hw::keyframe::DeltaCriterion::PerAxisMax;
+  if (l.criterion == Criterion::FivePoint)
+    w.lod.criterion = hw::keyframe::DeltaCriterion::FivePoint;
+  if (l.criterion == Criterion::PerAxisMax)
+    w.lod.criterion = hw::keyframe::DeltaCriterion::PerAxisMax;
   if (l.planarity == Planarity::Stencil) w.lod.planarity = hw::keyframe::Planarity::Stencil;
   if (l.planarity == Planarity::RegionLocal) w.lod.planarity = hw::keyframe::Planarity::RegionLocal;
   if (l.mergeStrips != Toggle::Default) w.lod.mergeStrips = l.mergeStrips == Toggle::On;
@@ -83,10 +84,17 @@ hw::Status mapOptions(const RendererDesc& d, hw::session::WalkOptions& w) {
     return bad("nearDistance", d.nearDistance, "a finite number >= 0 (scene units)");
   if (d.nearDistance > 0) w.inBetween.nearDistance = d.nearDistance;
   switch (d.depthBuffer) {
-    case DepthBuffer::Fixed24: w.depthMode = hw::DepthMode::Fixed24; break;
-    case DepthBuffer::Float32: w.depthMode = hw::DepthMode::Float32; break;
-    case DepthBuffer::Float32Reversed: w.depthMode = hw::DepthMode::Float32Reversed; break;
-    case DepthBuffer::Default: break;
+    case DepthBuffer::Fixed24:
+      w.depthMode = hw::DepthMode::Fixed24;
+      break;
+    case DepthBuffer::Float32:
+      w.depthMode = hw::DepthMode::Float32;
+      break;
+    case DepthBuffer::Float32Reversed:
+      w.depthMode = hw::DepthMode::Float32Reversed;
+      break;
+    case DepthBuffer::Default:
+      break;
   }
   const KeyframeDesc& k = d.keyframes;
   if (!(k.distance >= 0) || !std::isfinite(k.distance))
@@ -145,8 +153,7 @@ void inBetweenDepth(hw::session::InBetweenStep& step, const hw::session::InBetwe
   }
 }
 
-void fillStats(const hw::session::FrameInfo& info, const hw::gapfill::Frame& frame,
-               FrameStats& s) {
+void fillStats(const hw::session::FrameInfo& info, const hw::gapfill::Frame& frame, FrameStats& s) {
   s.kind = info.keyframe ? FrameKind::Keyframe : FrameKind::Warped;
   s.keyframesBuilt = info.keyframesBuilt;
   s.quads = info.quads;
@@ -239,8 +246,8 @@ Status Renderer::render(const Camera& camera, Frame& out) {
       out.depth.assign(m.free->keyframeEyeZ().data(),
                        m.free->keyframeEyeZ().data() + m.free->keyframeEyeZ().size());
     else
-      inBetweenDepth(m.free->inBetweenStep(), info.inBetween, f, m.walk.inBetween,
-                     m.previousDepth, out.depth);
+      inBetweenDepth(m.free->inBetweenStep(), info.inBetween, f, m.walk.inBetween, m.previousDepth,
+                     out.depth);
     m.previousDepth = out.depth;
   }
   out.stats.totalMs = sw.ms();
@@ -280,8 +287,8 @@ Status Renderer::renderNext(Frame& out) {
       out.depth.assign(m.path->keyframeEyeZ().data(),
                        m.path->keyframeEyeZ().data() + m.path->keyframeEyeZ().size());
     else
-      inBetweenDepth(m.path->inBetweenStep(), info.inBetween, f, m.walk.inBetween,
-                     m.previousDepth, out.depth);
+      inBetweenDepth(m.path->inBetweenStep(), info.inBetween, f, m.walk.inBetween, m.previousDepth,
+                     out.depth);
     m.previousDepth = out.depth;
   }
   out.stats.totalMs = sw.ms();
@@ -322,7 +329,8 @@ Status Renderer::present(const Frame& frame, int viewportWidth, int viewportHeig
         "ContextKind::Current");
   if (frame.width < 1 || frame.height < 1 ||
       frame.rgba.size() != static_cast<std::size_t>(frame.width) * frame.height * 4)
-    return hw::makeError("renderer: present(): the frame is empty or its rgba is not width*height*4 bytes");
+    return hw::makeError(
+        "renderer: present(): the frame is empty or its rgba is not width*height*4 bytes");
   if (viewportWidth < 1 || viewportHeight < 1)
     return hw::makeError("renderer: present(): viewport " + std::to_string(viewportWidth) + "x" +
                          std::to_string(viewportHeight) + ": expected at least 1x1");

@@ -1,14 +1,14 @@
 // Public scenes: loaded by spec, or checked and copied from the caller's
 // meshes, materials and textures.
+#include "hybridwalk/scene.h"
+
 #include <cmath>
+#include <glm/glm.hpp>
 #include <string>
 #include <utility>
 
-#include <glm/glm.hpp>
-
 #include "api/internal.h"
 #include "core/result.h"
-#include "hybridwalk/scene.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
 
@@ -70,7 +70,8 @@ Result<Scene> Scene::build(const SceneDesc& desc) {
     if (t.width < 1 || t.height < 1 || t.width > 16384 || t.height > 16384)
       return hw::makeError(what + ": size: expected 1 ... 16384 pixels each way, got " +
                            std::to_string(t.width) + "x" + std::to_string(t.height));
-    const std::size_t want = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4;
+    const std::size_t want =
+        static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4;
     if (t.rgba.size() != want)
       return hw::makeError(what + ": expected width*height*4 = " + std::to_string(want) +
                            " bytes of RGBA, got " + std::to_string(t.rgba.size()));
@@ -78,8 +79,8 @@ Result<Scene> Scene::build(const SceneDesc& desc) {
     tex.name = t.name;
     tex.image.resize(t.width, t.height);
     for (std::size_t p = 0; p < want / 4; ++p)
-      tex.image.data()[p] = hw::Rgba8{t.rgba[4 * p], t.rgba[4 * p + 1], t.rgba[4 * p + 2],
-                                      t.rgba[4 * p + 3]};
+      tex.image.data()[p] =
+          hw::Rgba8{t.rgba[4 * p], t.rgba[4 * p + 1], t.rgba[4 * p + 2], t.rgba[4 * p + 3]};
     s.textures.push_back(std::move(tex));
   }
   if (desc.materials.empty()) s.materials.push_back(hw::scenes::Material{"default"});
@@ -87,7 +88,8 @@ Result<Scene> Scene::build(const SceneDesc& desc) {
     const MaterialDesc& m = desc.materials[i];
     const std::string what = "material " + std::to_string(i);
     if (m.texture < -1 || m.texture >= static_cast<int>(desc.textures.size()))
-      return hw::makeError(what + ": texture " + std::to_string(m.texture) + ": expected -1 or 0 ... " +
+      return hw::makeError(what + ": texture " + std::to_string(m.texture) +
+                           ": expected -1 or 0 ... " +
                            std::to_string(static_cast<int>(desc.textures.size()) - 1));
     for (float c : m.baseColour)
       if (!(c >= 0 && c <= 1)) return hw::makeError(what + ": baseColour: expected values in 0..1");
@@ -110,8 +112,9 @@ Result<Scene> Scene::build(const SceneDesc& desc) {
                            std::to_string(m.positions.size()) + " floats");
     const std::size_t nv = m.positions.size() / 3;
     if (!m.normals.empty() && m.normals.size() != 3 * nv)
-      return hw::makeError(what + ": normals: expected 3 floats per vertex (" + std::to_string(3 * nv) +
-                           ") or none, got " + std::to_string(m.normals.size()));
+      return hw::makeError(what + ": normals: expected 3 floats per vertex (" +
+                           std::to_string(3 * nv) + ") or none, got " +
+                           std::to_string(m.normals.size()));
     if (!m.uvs.empty() && m.uvs.size() != 2 * nv)
       return hw::makeError(what + ": uvs: expected 2 floats per vertex (" + std::to_string(2 * nv) +
                            ") or none, got " + std::to_string(m.uvs.size()));

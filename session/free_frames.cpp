@@ -4,10 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <string>
 #include <utility>
-
-#include <glm/glm.hpp>
 
 #include "core/gl/context.h"
 #include "core/timer.h"
@@ -117,16 +116,16 @@ Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
   Stopwatch total;
   // Keyframes of another size or projection cannot be warped to this one.
   for (Slot& s : slots_)
-    if (s.valid && (s.kf->keyframe.camera.width != cam.width ||
-                    s.kf->keyframe.camera.height != cam.height ||
-                    s.kf->keyframe.camera.fovYRadians != cam.fovYRadians ||
-                    s.kf->keyframe.camera.nearPlane != cam.nearPlane ||
-                    s.kf->keyframe.camera.farPlane != cam.farPlane)) {
+    if (s.valid &&
+        (s.kf->keyframe.camera.width != cam.width || s.kf->keyframe.camera.height != cam.height ||
+         s.kf->keyframe.camera.fovYRadians != cam.fovYRadians ||
+         s.kf->keyframe.camera.nearPlane != cam.nearPlane ||
+         s.kf->keyframe.camera.farPlane != cam.farPlane)) {
       s.valid = false;
       s.source.reset();
     }
-  if (havePrevious_ && (previous_.colour.width() != cam.width ||
-                        previous_.colour.height() != cam.height))
+  if (havePrevious_ &&
+      (previous_.colour.width() != cam.width || previous_.colour.height() != cam.height))
     havePrevious_ = false;
   const bool moving = havePrevCam_ && poseDistance(cam, prevCam_) > 1e-9;
   int nearest = -1, newest = -1, useful = 0;
@@ -144,8 +143,8 @@ Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
                         slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_ &&
                         sNewest > newestSPrev_;
   const bool lost = nearest < 0 || sNearest > kFreeLost;
-  const bool wanted = moving && (useful < 2 || (nearest == newest &&
-                                                sNewest > kFreePassedNewest && receding));
+  const bool wanted =
+      moving && (useful < 2 || (nearest == newest && sNewest > kFreePassedNewest && receding));
   if (lost) {
     HW_TRY(build(slots_[static_cast<std::size_t>(nearest < 0 ? 0 : 1 - nearest)], cam, info));
   } else if (wanted) {

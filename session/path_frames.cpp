@@ -19,8 +19,7 @@ PathFrames::~PathFrames() = default;
 Result<std::unique_ptr<PathFrames>> PathFrames::create(const scenes::Scene& scene,
                                                        std::vector<Camera> cameras,
                                                        int keyframeEvery,
-                                                       const WalkOptions& options,
-                                                       bool writeEyeZ) {
+                                                       const WalkOptions& options, bool writeEyeZ) {
   if (cameras.empty()) return makeError("camera path: expected at least one camera, got none");
   if (keyframeEvery < 1)
     return makeError("camera path: keyframe spacing: expected at least 1 frame, got " +

@@ -26,16 +26,16 @@ namespace hw::session {
 // What drawing one frame did and cost (ms). Keyframe figures count the
 // keyframes built (rendered, meshed, uploaded) during this frame.
 struct FrameInfo {
-  bool keyframe = false;         // the frame is a keyframe image shown as it is
-  int k0 = -1, k1 = -1;          // its bracketing keyframes (path frame indices; equal on a keyframe)
+  bool keyframe = false;  // the frame is a keyframe image shown as it is
+  int k0 = -1, k1 = -1;   // its bracketing keyframes (path frame indices; equal on a keyframe)
   int keyframesBuilt = 0;
-  double keyframeRenderMs = 0;   // geometry draw + readback
-  double lodMs = 0;              // Δ buffer + subdivision + corners
-  double uploadMs = 0;           // mesh + texture to the GPU
-  InBetweenStats inBetween;      // in-between frames only
-  double nearMs = 0;             // near objects drawn as geometry (nearDistance > 0)
-  int quads = 0;                 // quads warped, or the shown keyframe's
-  double totalMs = 0;            // the whole frame
+  double keyframeRenderMs = 0;  // geometry draw + readback
+  double lodMs = 0;             // Δ buffer + subdivision + corners
+  double uploadMs = 0;          // mesh + texture to the GPU
+  InBetweenStats inBetween;     // in-between frames only
+  double nearMs = 0;            // near objects drawn as geometry (nearDistance > 0)
+  int quads = 0;                // quads warped, or the shown keyframe's
+  double totalMs = 0;           // the whole frame
 };
 
 class PathFrames {

@@ -5,7 +5,6 @@
 // closed) the window is read back, written as a PPM if asked, and compared
 // with the library's last frame; exit 1 if they differ.
 #include <GLFW/glfw3.h>  // with GL/gl.h for the types and enums
-
 #include <hybridwalk/hybridwalk.h>
 
 #include <cmath>
@@ -46,8 +45,8 @@ int main(int argc, char** argv) {
       glfwGetFramebufferSize(window, &w, &h);
       // Turn slowly on the spot, drifting forward.
       const double a = 0.01 * i;
-      const Vec3 f = start.forward, eye{start.eye.x + 0.02 * i * f.x, start.eye.y,
-                                        start.eye.z + 0.02 * i * f.z};
+      const Vec3 f = start.forward,
+                 eye{start.eye.x + 0.02 * i * f.x, start.eye.y, start.eye.z + 0.02 * i * f.z};
       const Vec3 look{eye.x + f.x * std::cos(a) - f.z * std::sin(a), eye.y + f.y,
                       eye.z + f.z * std::cos(a) + f.x * std::sin(a)};
       auto cam = Camera::lookAt(eye, look, {0, 1, 0}, start.fovYRadians, w, h, start.nearPlane,
@@ -56,8 +55,9 @@ int main(int argc, char** argv) {
       if (auto st = renderer->render(*cam, frame); !st) return fail(st.error().message.c_str());
       if (auto st = renderer->present(frame, w, h); !st) return fail(st.error().message.c_str());
       if (frames > 0 && i == frames - 1) {  // read back what the window shows
-        auto readPixels = reinterpret_cast<void (*)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum,
-                                                    void*)>(glfwGetProcAddress("glReadPixels"));
+        auto readPixels =
+            reinterpret_cast<void (*)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void*)>(
+                glfwGetProcAddress("glReadPixels"));
         std::vector<unsigned char> shot(static_cast<std::size_t>(w) * h * 4);
         readPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, shot.data());
         long long differ = 0, varied = 0;  // window rows run bottom-up, frame rows top-down
@@ -74,7 +74,8 @@ int main(int argc, char** argv) {
           if (FILE* out = std::fopen(screenshot, "wb")) {
             std::fprintf(out, "P6 %d %d 255\n", w, h);
             for (int y = h - 1; y >= 0; --y)
-              for (int x = 0; x < w; ++x) std::fwrite(&shot[static_cast<std::size_t>((y * w + x) * 4)], 1, 3, out);
+              for (int x = 0; x < w; ++x)
+                std::fwrite(&shot[static_cast<std::size_t>((y * w + x) * 4)], 1, 3, out);
             std::fclose(out);
           }
         }

@@ -71,8 +71,8 @@ int main() {
   desc.path.keyframeEvery = 5;
   for (int i = 0; i < 30; ++i) {
     const double a = 3.14159265358979 * i / 29.0;
-    auto cam = Camera::lookAt({4 * std::cos(a), 1.6, 4 * std::sin(a)}, {0, 0.8, 0}, {0, 1, 0},
-                              1.0, 320, 240, 0.1, 100.0);
+    auto cam = Camera::lookAt({4 * std::cos(a), 1.6, 4 * std::sin(a)}, {0, 0.8, 0}, {0, 1, 0}, 1.0,
+                              320, 240, 0.1, 100.0);
     if (!cam) return std::fprintf(stderr, "error: %s\n", cam.error().message.c_str()), 1;
     desc.path.cameras.push_back(*cam);
   }

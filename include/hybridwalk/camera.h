@@ -18,9 +18,9 @@ struct Vec3 {
 
 struct Camera {
   Vec3 eye{0, 0, 0};
-  Vec3 right{1, 0, 0};     // U
-  Vec3 up{0, 1, 0};        // V
-  Vec3 forward{0, 0, -1};  // W, the view direction
+  Vec3 right{1, 0, 0};                      // U
+  Vec3 up{0, 1, 0};                         // V
+  Vec3 forward{0, 0, -1};                   // W, the view direction
   double fovYRadians = 1.0471975511965976;  // 60°
   int width = 512, height = 512;            // frame size, pixels (1 … 16384)
   double nearPlane = 0.1, farPlane = 1000.0;

@@ -39,9 +39,9 @@ enum class Mode {
   Geometry,  // every frame drawn by the geometry renderer (the reference)
 };
 
-enum class Criterion { Default, FivePoint, PerAxisMax };  // the Δ²z' test
-enum class Planarity { Default, Stencil, RegionLocal };   // where Δ² is taken
-enum class Compose { Default, Overlay, DepthMerge };      // layer composition
+enum class Criterion { Default, FivePoint, PerAxisMax };                // the Δ²z' test
+enum class Planarity { Default, Stencil, RegionLocal };                 // where Δ² is taken
+enum class Compose { Default, Overlay, DepthMerge };                    // layer composition
 enum class DepthBuffer { Default, Fixed24, Float32, Float32Reversed };  // keyframe depth
 enum class Toggle { Default, Off, On };
 
@@ -74,7 +74,7 @@ struct RendererDesc {
   // as geometry into every frame instead of warped (the paper's §3); 0 = off.
   double nearDistance = 0;
   DepthBuffer depthBuffer = DepthBuffer::Default;  // float32-reversed
-  bool depth = false;  // fill Frame::depth
+  bool depth = false;                              // fill Frame::depth
   // Non-empty: the renderer follows this path (renderNext()); empty: free
   // camera (render()).
   Path path;
@@ -88,19 +88,19 @@ enum class FrameKind {
 
 struct FrameStats {
   FrameKind kind = FrameKind::Geometry;
-  int index = -1;                // path: the frame's index in the path; free camera: -1
-  int keyframes[2] = {-1, -1};   // path: the keyframes around it (equal on a keyframe)
-  int keyframesBuilt = 0;        // keyframes rendered / uploaded during this call
-  int quads = 0;                 // quads warped (both layers), or the shown keyframe's
-  double holeFraction = 0;       // pixels no keyframe covered (then the previous frame's)
-  double keyframeRenderMs = 0;   // geometry draw + readback of keyframes built in this call
-  double lodMs = 0;              // their Δ buffer, subdivision and corners
-  double uploadMs = 0;           // their mesh and texture upload
-  double warpMs = 0;             // warping the layers, with their readback
-  double composeMs = 0;          // composition with the previous frame
-  double nearMs = 0;             // near objects drawn as geometry
-  double geometryMs = 0;         // FrameKind::Geometry: draw + readback
-  double totalMs = 0;            // the whole call, copying out included
+  int index = -1;               // path: the frame's index in the path; free camera: -1
+  int keyframes[2] = {-1, -1};  // path: the keyframes around it (equal on a keyframe)
+  int keyframesBuilt = 0;       // keyframes rendered / uploaded during this call
+  int quads = 0;                // quads warped (both layers), or the shown keyframe's
+  double holeFraction = 0;      // pixels no keyframe covered (then the previous frame's)
+  double keyframeRenderMs = 0;  // geometry draw + readback of keyframes built in this call
+  double lodMs = 0;             // their Δ buffer, subdivision and corners
+  double uploadMs = 0;          // their mesh and texture upload
+  double warpMs = 0;            // warping the layers, with their readback
+  double composeMs = 0;         // composition with the previous frame
+  double nearMs = 0;            // near objects drawn as geometry
+  double geometryMs = 0;        // FrameKind::Geometry: draw + readback
+  double totalMs = 0;           // the whole call, copying out included
 };
 
 struct Frame {

@@ -36,13 +36,25 @@ class [[nodiscard]] Result {
   Result(Error e) : v_(std::move(e)) {}      // NOLINT
   bool ok() const { return v_.index() == 0; }
   explicit operator bool() const { return ok(); }
-  T& value() & { need(ok()); return std::get<0>(v_); }
-  const T& value() const& { need(ok()); return std::get<0>(v_); }
-  T&& value() && { need(ok()); return std::get<0>(std::move(v_)); }
+  T& value() & {
+    need(ok());
+    return std::get<0>(v_);
+  }
+  const T& value() const& {
+    need(ok());
+    return std::get<0>(v_);
+  }
+  T&& value() && {
+    need(ok());
+    return std::get<0>(std::move(v_));
+  }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
   T& operator*() { return value(); }
-  const Error& error() const { need(!ok()); return std::get<1>(v_); }
+  const Error& error() const {
+    need(!ok());
+    return std::get<1>(v_);
+  }
 
  private:
   static void need(bool cond) {

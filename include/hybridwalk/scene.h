@@ -18,11 +18,11 @@ namespace hybridwalk {
 // faces (back faces are culled unless the material is two-sided).
 struct MeshDesc {
   std::string name;
-  std::vector<float> positions;       // x, y, z per vertex (scene units)
-  std::vector<float> normals;         // x, y, z per vertex; empty = computed (smooth)
-  std::vector<float> uvs;             // u, v per vertex, v = 0 at the texture's top; empty = 0
-  std::vector<std::uint32_t> indices; // 3 per triangle
-  int material = 0;                   // index into SceneDesc::materials
+  std::vector<float> positions;        // x, y, z per vertex (scene units)
+  std::vector<float> normals;          // x, y, z per vertex; empty = computed (smooth)
+  std::vector<float> uvs;              // u, v per vertex, v = 0 at the texture's top; empty = 0
+  std::vector<std::uint32_t> indices;  // 3 per triangle
+  int material = 0;                    // index into SceneDesc::materials
 };
 
 struct MaterialDesc {
@@ -37,14 +37,14 @@ struct MaterialDesc {
 
 struct TextureDesc {
   std::string name;
-  int width = 0, height = 0;          // pixels, 1 … 16384
-  std::vector<std::uint8_t> rgba;     // width·height·4 bytes, row 0 = top
+  int width = 0, height = 0;       // pixels, 1 … 16384
+  std::vector<std::uint8_t> rgba;  // width·height·4 bytes, row 0 = top
 };
 
 struct SceneDesc {
   std::string name = "scene";
-  std::vector<MeshDesc> meshes;        // at least one triangle in all
-  std::vector<MaterialDesc> materials; // empty = one white material
+  std::vector<MeshDesc> meshes;         // at least one triangle in all
+  std::vector<MaterialDesc> materials;  // empty = one white material
   std::vector<TextureDesc> textures;
   float skyColour[3] = {0.55f, 0.70f, 0.90f};  // where nothing is drawn, 0..1
 };

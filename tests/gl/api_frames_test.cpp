@@ -193,7 +193,7 @@ TEST(ApiFrames, BadInputIsAnError) {
   r = hwa::Renderer::create(*s, desc);
   ASSERT_TRUE(r.ok()) << r.error().message;
   hwa::Frame f;
-  EXPECT_FALSE(r->render(*cam, f).ok());  // a path renderer
+  EXPECT_FALSE(r->render(*cam, f).ok());     // a path renderer
   EXPECT_FALSE(r->present(f, 64, 48).ok());  // its own context
 
   r = hwa::Renderer::create(*s, {});
