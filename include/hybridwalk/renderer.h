@@ -26,8 +26,10 @@
 namespace hybridwalk {
 
 // Where the renderer draws.
+// A renderer is used from one thread at a time.
 enum class ContextKind {
-  Own,      // its own headless OSMesa context (llvmpipe; no display, no GPU)
+  Own,      // its own headless OSMesa context (llvmpipe; no display, no GPU),
+            // made current on the calling thread by each call (and left so)
   Current,  // the caller's OpenGL 4.5 core context, current on the calling
             // thread for every call (e.g. a GLFW window's); needs
             // RendererDesc::getProcAddress
