@@ -4,8 +4,9 @@
 # temporary prefix; examples/embed_headless and examples/embed_glfw built
 # against the installed package with find_package(hybridwalk) and run (the
 # GLFW one under Xvfb, its window read back and compared with the library's
-# frame); the headless example built once more through pkg-config; and
-# docs/api.md checked to quote the headless example as it is.
+# frame); the headless example built once more through pkg-config and
+# against the Debian package `cpack -G DEB` makes; and docs/api.md checked
+# to quote the headless example as it is.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 prefix=$(mktemp -d)
@@ -36,9 +37,18 @@ pcdir=$(dirname "$(find "$prefix" -name hybridwalk.pc)")
 c++ -std=c++17 -O1 examples/embed_headless/main.cpp -o "$work/pc_headless" \
   $(PKG_CONFIG_PATH="$pcdir" pkg-config --cflags --libs hybridwalk)
 "$work/pc_headless" >/dev/null
+# The Debian package of the same install (cpack -G DEB), unpacked rather than
+# installed: the headless example builds and runs against it too.
+rm -f build-install/hybridwalk_*.deb
+(cd build-install && cpack -G DEB >/dev/null)
+dpkg-deb -x build-install/hybridwalk_*.deb "$work/deb"
+cmake -S examples/embed_headless -B "$work/deb_headless" -G Ninja \
+  -DCMAKE_PREFIX_PATH="$work/deb/usr" >/dev/null
+cmake --build "$work/deb_headless" >/dev/null
+"$work/deb_headless/embed_headless" >/dev/null
 python3 - <<'PY'
 import sys
 doc, src = open("docs/api.md").read(), open("examples/embed_headless/main.cpp").read()
 sys.exit(0 if src in doc else "docs/api.md does not quote examples/embed_headless/main.cpp as it is")
 PY
-echo "test_install: installed package, both examples and pkg-config: passed"
+echo "test_install: installed package, both examples, pkg-config and the .deb: passed"
