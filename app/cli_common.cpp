@@ -22,6 +22,11 @@ int fail(const std::string& msg) {
   return kExitRuntime;
 }
 
+int failUsage(const std::string& msg) {
+  fail(msg);
+  return kExitUsage;
+}
+
 // "2048", "2^11", "1e3" → value; error text otherwise.
 bool parseTau(const std::string& s, double* out) {
   try {

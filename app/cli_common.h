@@ -25,6 +25,9 @@ constexpr int kExitUsage = 2;
 
 // "hybridwalk: error: MSG" on stderr; returns kExitRuntime.
 int fail(const std::string& msg);
+// The same for options that cannot go together or a value out of its set;
+// returns kExitUsage.
+int failUsage(const std::string& msg);
 
 // "2048", "2^11", "1e3" → value (finite, >= 0); false otherwise.
 bool parseTau(const std::string& s, double* out);

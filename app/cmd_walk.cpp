@@ -21,6 +21,7 @@
 #include "bench/schedule_study.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
+#include "session/presets.h"
 #include "session/walk.h"
 #include "report/schedule_plots.h"
 #include "report/walk_plots.h"
@@ -50,13 +51,17 @@ struct WalkCli {
   CLI::App* walk = nullptr;
   Common walkC;
   std::string walkOut = "out/walk";
+  // The preset's settings are the defaults; an option given replaces one.
+  const session::WalkOptions defaults = session::presetOptions(session::Preset::Default);
+  std::string preset = session::presetName(session::Preset::Default);
+  std::string mode = session::frameModeName(defaults.mode);
   std::string tauS = "2^11";
-  std::string criterion = "five-point";
-  std::string compose = "overlay";
+  std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
+  std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
   std::string texcoords = "projective";
-  std::string planarity = "stencil";
-  bool mergeStrips = false;
-  double tauPx = 0;
+  std::string planarity = keyframe::planarityName(defaults.lod.planarity);
+  bool mergeStrips = defaults.lod.mergeStrips;
+  double tauPx = defaults.lod.tauParallaxPx;
   bool noRef = false;
   bool saveFrames = false;
   bool quiet = false;
@@ -64,8 +69,8 @@ struct WalkCli {
   std::string layers = "fused";
   bool noSkipBg = false;
   bool noSkipPrev = false;
-  double nearDistance = 0;
-  std::string subdivide = "none";
+  double nearDistance = defaults.inBetween.nearDistance;
+  std::string subdivide = warp::subdivisionName(defaults.warp.subdivision);
   std::string primitives = "indexed";
   bool cullBg = false;
   int subdivideCell = 16;
@@ -82,7 +87,7 @@ struct WalkCli {
   double walkCalWindow = 0;
   int walkVerifyRounds = 0;
   double walkVerifyOptimism = 1.0;
-  bool asyncKeyframes = false;
+  bool asyncKeyframes = defaults.asyncKeyframes;
   double keyframeCacheMb = 256;
   int keyframePrefetch = 2;
   std::size_t keyframeFlushTriangles = 8192;
@@ -96,25 +101,50 @@ struct WalkCli {
   bool pixelAge = false;
 };
 
+// The preset's options, then each option given on the command line; with
+// --preset paper given, an option that departs from the paper is an error.
+int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
+  session::Preset preset = session::Preset::Default;
+  session::parsePreset(o.preset, &preset);  // checked by the option's validator
+  session::WalkOptions& wo = *out;
+  wo = session::presetOptions(preset);
+  auto given = [&](const char* name) { return o.walk->count(name) > 0; };
+  if (given("--mode")) session::parseFrameMode(o.mode, &wo.mode);
+  if (given("--tau")) {
+    if (!parseTau(o.tauS, &wo.lod.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tauS +
+                  "'");
+    wo.lod.tauParallaxPx = 0;  // the threshold in z' units
+  }
+  if (given("--tau-px")) wo.lod.tauParallaxPx = o.tauPx;
+  if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
+  if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
+  if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
+  if (std::string err; !parseTauGradient(o.tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
+  if (given("--compose"))
+    gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
+  if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
+  if (given("--subdivide"))
+    wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
+                          : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
+                                                      : warp::Subdivision::None;
+  if (given("--async-keyframes") || given("--sync-keyframes"))
+    wo.asyncKeyframes = o.asyncKeyframes;
+  if (preset == session::Preset::Paper && given("--preset"))
+    if (const auto c = session::differenceFromPaper(wo); !c.option.empty())
+      return failUsage(c.option + ": contradicts --preset paper (the paper's: " + c.paperValue +
+                       "); drop one of them");
+  return 0;
+}
+
 int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   session::WalkOptions wo;
-  if (!parseTau(o.tauS, &wo.lod.tau))
-    return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tauS + "'");
-  wo.lod.tauParallaxPx = o.tauPx;
-  keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
-  keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
-  wo.lod.mergeStrips = o.mergeStrips;
-  if (std::string err; !parseTauGradient(o.tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
-  gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
+  if (const int code = presetAndGiven(o, &wo); code != 0) return code;
   wo.warp.texcoords = o.texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
   wo.warp.skyBackdrop = !o.noSky;
   wo.inBetween.fusedLayers = o.layers == "fused";
   wo.inBetween.skipBackground = !o.noSkipBg;
   wo.inBetween.skipPrevious = !o.noSkipPrev;
-  wo.inBetween.nearDistance = o.nearDistance;
-  wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
-                        : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
-                                                  : warp::Subdivision::None;
   wo.warp.subdivideCellPx = o.subdivideCell;
   warp::parsePrimitives(o.primitives.c_str(), &wo.warp.primitives);
   wo.warp.cullBackground = o.cullBg;
@@ -129,7 +159,6 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   if (o.schedule == "adaptive" && o.walkPlan.minGap > o.walkPlan.maxGap)
     return fail("--min-gap " + std::to_string(o.walkPlan.minGap) + " exceeds --max-gap " +
                 std::to_string(o.walkPlan.maxGap));
-  wo.asyncKeyframes = o.asyncKeyframes;
   wo.keyframeCacheBytes = static_cast<std::size_t>(o.keyframeCacheMb * 1024 * 1024);
   wo.keyframePrefetch = o.keyframePrefetch;
   wo.keyframeFlushTriangles = o.keyframeFlushTriangles;
@@ -440,15 +469,20 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   }
   const json& s = res->report["summary"];
   auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
+  char threshold[64];
+  if (wo.lod.tauParallaxPx > 0)
+    std::snprintf(threshold, sizeof threshold, "tau-px %g", wo.lod.tauParallaxPx);
+  else
+    std::snprintf(threshold, sizeof threshold, "tau %g", wo.lod.tau);
   std::printf(
-      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes, %s schedule), tau %s, %s\n"
+      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes, %s schedule), %s, %s\n"
       "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
       "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
       "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
       "  every frame (%s keyframes) %.2f ms median, p95 %.2f (p95/median %.2f); "
       "%d keyframe stalls, %.1f ms waited\n",
       o.walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
-      s["frames"].get<int>(), s["keyframes"].get<int>(), o.schedule.c_str(), o.tauS.c_str(),
+      s["frames"].get<int>(), s["keyframes"].get<int>(), o.schedule.c_str(), threshold,
       s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
       num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
       100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),
@@ -457,6 +491,14 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
       s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
       num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
       s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
+  const json& byMode = s["frames_by_mode"];
+  const json& ratio = s["frame_over_reference"];
+  std::printf("  mode %s: %d frames drawn as geometry, %d warped, %d keyframes shown; "
+              "frame / geometry time: median %.3f, p95 %.3f\n",
+              s["mode"].get<std::string>().c_str(), byMode["geometry"].get<int>(),
+              byMode["warp"].get<int>(), byMode["keyframe"].get<int>(),
+              ratio.is_object() ? num(ratio["median"]) : std::nan(""),
+              ratio.is_object() ? num(ratio["p95"]) : std::nan(""));
   if (frameBudgetAuto)
     std::printf("  frame budget auto: p%.0f of the last %d in-between frames' work, median %.1f ms\n",
                 o.fb.quantile * 100, o.fb.window, num(s["frame_budget_ms"]));
@@ -483,14 +525,31 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
               "geometry renderer; writes report.json, strips and (optionally) frames");
   addCommon(walk, o.walkC);
-  walk->add_option("--tau", o.tauS,
-                   "LOD threshold on |Δ²z'| in z' units (2^24 scale); '2^11' or '2048' form")
+  walk->add_option("--preset", o.preset,
+                   "Settings to start from: default (measured best on many scenes: --mode auto, "
+                   "--tau-px 0.125, region-local planarity, merged strips, keyframes built ahead) "
+                   "or paper (Zheng et al. 1999 exactly: every frame warped, --tau 2^11, "
+                   "five-point stencil, overlay, no merging, no near geometry, no subdivision); "
+                   "options given replace the preset's, except that with paper an option "
+                   "departing from the paper is an error (--tau may vary)")
+      ->check(CLI::IsMember({"default", "paper"}))
       ->capture_default_str();
+  walk->add_option("--mode", o.mode,
+                   "How frames are drawn: auto (per keyframe segment, warped or drawn as "
+                   "geometry, whichever costs less as measured in this run; geometry when about "
+                   "even), hybrid (every frame warped or a keyframe, the paper's) or geometry "
+                   "(every frame drawn by the geometry renderer; no keyframes)")
+      ->check(CLI::IsMember({"auto", "hybrid", "geometry"}))
+      ->capture_default_str();
+  walk->add_option("--tau", o.tauS,
+                   "LOD threshold on |Δ²z'| in z' units (2^24 scale), '2^11' or '2048' form; "
+                   "replaces --tau-px (the paper's threshold; --preset paper: 2^11)");
   walk->add_option("--tau-px", o.tauPx,
-                   "Physical threshold instead of --tau: parallax error in pixels per scene unit "
-                   "of camera motion (same meaning indoors and out); 0 = use --tau")
+                   "LOD threshold as parallax error: pixels per scene unit of camera motion (the "
+                   "same meaning indoors and out); 0 = use --tau")
       ->check(CLI::NonNegativeNumber)
-      ->excludes("--tau");
+      ->excludes("--tau")
+      ->capture_default_str();
   walk->add_option("--criterion", o.criterion,
                    "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
@@ -501,8 +560,10 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    "along edges)")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
-  walk->add_flag("--merge-strips", o.mergeStrips,
-                 "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger quads");
+  walk->add_flag("--merge-strips,!--no-merge-strips", o.mergeStrips,
+                 "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger "
+                 "quads, or not")
+      ->capture_default_str();
   walk->add_option("--tau-gradient", o.tauGradS, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", o.compose,
                    "Composition: overlay (paper: nearer keyframe in front) or depth-merge "
@@ -628,9 +689,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   addPlannerOptions(walk, o.walkPlan, o.walkPredictor, o.walkPlanBy, false);
-  walk->add_flag("--async-keyframes", o.asyncKeyframes,
+  walk->add_flag("--async-keyframes,!--sync-keyframes", o.asyncKeyframes,
                  "Render and mesh keyframes ahead of need on a worker thread with a second "
-                 "OSMesa context (frames are identical; only their timing changes)");
+                 "OSMesa context, or when first needed, in the frame that shows them (frames "
+                 "are identical; only their timing changes)")
+      ->capture_default_str();
   walk->add_option("--keyframe-cache-mb", o.keyframeCacheMb,
                    "Memory bound of the keyframe cache in MiB (colour + depth + quad mesh; the "
                    "two keyframes of the current bracket are always kept)")
@@ -686,14 +749,16 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                  "without a budget (always on with --frame-budget-ms); frames are identical");
 
   setGroups(walk, {{"Essentials", {"--help", "--scene", "--path", "--out", "--save-frames", "--width",
-                                   "--height", "--frames", "--strips", "--quiet", "--no-reference"}},
+                                   "--height", "--frames", "--strips", "--quiet", "--no-reference",
+                                   "--preset", "--mode"}},
                    {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
-                                        "--merge-strips", "--tau-gradient", "--depth", "--subdivide",
+                                        "--merge-strips", "--no-merge-strips", "--tau-gradient", "--depth", "--subdivide",
                                         "--subdivide-cell", "--primitives"}},
                    {"Composition", {"--compose", "--layers", "--near", "--texcoords",
                                     "--no-sky-backdrop", "--no-skip-background",
                                     "--no-skip-previous", "--cull-background"}},
                    {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",
+                                  "--sync-keyframes",
                                   "--keyframe-cache-mb", "--keyframe-prefetch", "--keyframe-pacing",
                                   "--keyframe-budget-scale"}},
                    {"Timing", {"--frame-budget-ms", "--frame-budget-quantile",

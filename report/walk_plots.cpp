@@ -12,12 +12,15 @@ namespace hw::report {
 Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& result,
                        const session::WalkOptions& opt, const std::string& sceneLabel) {
   const session::FrameTimes& t = result.frameTimes;
-  Series work{"in-between frame: work (ms.frame)"}, built{"frame that built/uploaded a keyframe"},
+  Series work{"warped frame: work (ms.frame)"}, geometry{"frame drawn as geometry: work"},
+      built{"frame that built/uploaded a keyframe"},
       key{"keyframe shown"}, reference{"geometry frame, same camera (reference_ms)"},
       interval{"presented interval (ms.interval)"}, budget{"budget"};
   const Rgba8 kBlue{31, 119, 180, 255}, kRed{214, 39, 40, 255}, kGreen{44, 160, 44, 255},
-      kGrey{110, 110, 110, 255}, kOrange{255, 127, 14, 255}, kPurple{148, 103, 189, 255};
+      kGrey{110, 110, 110, 255}, kOrange{255, 127, 14, 255}, kPurple{148, 103, 189, 255},
+      kBrown{140, 86, 75, 255};
   work.colour = kBlue;
+  geometry.colour = kBrown;
   built.colour = kRed;
   key.colour = kGreen;
   reference.colour = kGrey;
@@ -26,10 +29,14 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   bool anyBudget = false;
   for (std::size_t i = 0; i < t.frame.size(); ++i) {
     const double x = t.frame[i];
-    // In-between frames as one line, broken where a keyframe frame sits.
+    // Warped and geometry frames as lines, each broken where the other
+    // kind (or a keyframe frame) sits.
+    const session::FrameKind k = t.kind[i];
     work.x.push_back(x);
-    work.y.push_back(t.keyframe[i] ? std::nan("") : t.workMs[i]);
-    if (t.keyframe[i]) key.x.push_back(x), key.y.push_back(t.workMs[i]);
+    work.y.push_back(k == session::FrameKind::Warp ? t.workMs[i] : std::nan(""));
+    geometry.x.push_back(x);
+    geometry.y.push_back(k == session::FrameKind::Geometry ? t.workMs[i] : std::nan(""));
+    if (k == session::FrameKind::Keyframe) key.x.push_back(x), key.y.push_back(t.workMs[i]);
     if (t.builtKeyframe[i]) built.x.push_back(x), built.y.push_back(t.workMs[i]);
     reference.x.push_back(x);
     reference.y.push_back(t.referenceMs[i]);
@@ -42,6 +49,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
     }
   }
   work.markers = false;
+  geometry.markers = false;
   reference.markers = false;
   key.lines = built.lines = interval.lines = false;
   key.marker = Marker::kDiamond;
@@ -56,7 +64,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   else if (budgetOn)
     std::snprintf(budgetLabel, sizeof budgetLabel, ", budget %.1f ms", opt.frameBudgetMs);
   PlotOptions po;
-  po.title = "Frame times: " + sceneLabel +
+  po.title = "Frame times: " + sceneLabel + ", mode " + session::frameModeName(opt.mode) +
              (opt.asyncKeyframes && !opt.keyframeSource ? ", async keyframes" : "") + budgetLabel;
   po.xLabel = "frame";
   po.yLabel = "ms (log)";
@@ -64,6 +72,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   po.width = 1000;
   po.height = 480;
   std::vector<Series> series{work, key, built};
+  if (!geometry.x.empty() && opt.mode != session::FrameMode::Hybrid) series.push_back(geometry);
   if (opt.reference) series.push_back(reference);
   if (budgetOn && opt.paceFrames) series.push_back(interval);
   if (anyBudget) series.push_back(budget);

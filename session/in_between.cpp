@@ -23,8 +23,15 @@ void markNoHoles(gapfill::Frame& frame) {
 }  // namespace
 
 void showKeyframe(const Image<Rgba8>& colour, gapfill::Frame& frame) {
-  resizeFrame(frame, colour.width(), colour.height());
-  frame.colour = colour;
+  if (&colour == &frame.colour) {  // rendered in place
+    if (frame.valid.width() != colour.width() || frame.valid.height() != colour.height()) {
+      frame.holesBefore.resize(colour.width(), colour.height());
+      frame.valid.resize(colour.width(), colour.height());
+    }
+  } else {
+    resizeFrame(frame, colour.width(), colour.height());
+    frame.colour = colour;
+  }
   markNoHoles(frame);
 }
 

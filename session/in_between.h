@@ -110,7 +110,8 @@ class InBetweenStep {
   Image<std::uint8_t> nearCovered_;
 };
 
-// A frame that is a keyframe image shown as it is (no holes, nothing older).
+// A frame that is a keyframe image, or a geometry render, shown as it is (no
+// holes, nothing older). `colour` may be frame.colour itself (rendered in place).
 void showKeyframe(const Image<Rgba8>& colour, gapfill::Frame& frame);
 
 }  // namespace hw::session

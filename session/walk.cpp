@@ -24,6 +24,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "gapfill/age.h"
+#include "keyframe/analytic_scene.h"
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 #include "session/frame_budget.h"
@@ -36,6 +37,7 @@ using nlohmann::json;
 void FrameTimes::reserve(std::size_t n) {
   frame.reserve(n);
   keyframe.reserve(n);
+  kind.reserve(n);
   builtKeyframe.reserve(n);
   workMs.reserve(n);
   intervalMs.reserve(n);
@@ -43,10 +45,11 @@ void FrameTimes::reserve(std::size_t n) {
   referenceMs.reserve(n);
 }
 
-void FrameTimes::push(int i, bool isKeyframe, bool built, double work, double interval,
+void FrameTimes::push(int i, FrameKind k, bool built, double work, double interval,
                       double budget, double reference) {
   frame.push_back(i);
-  keyframe.push_back(isKeyframe ? 1 : 0);
+  keyframe.push_back(k == FrameKind::Keyframe ? 1 : 0);
+  kind.push_back(k);
   builtKeyframe.push_back(built ? 1 : 0);
   workMs.push_back(work);
   intervalMs.push_back(interval);
@@ -99,13 +102,17 @@ class WalkLoop {
   Status setUpKeyframes();
   Status warmUp();
   Status calibrateRefresh();
+  Status calibrateModes();
   void chooseStripFrames();
+  FrameKind chooseKind(int i, int k0, int k1);
+  int segmentLength(int k) const;
   Status frame(int i);
+  Status geometryFrame(int i, json& fj, json& ms);
   Status keyframeFrame(int i, int k, json& fj, json& ms);
   Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
   Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
-  void endFrameWork(json& ms, bool keyframeFrame);
+  void endFrameWork(json& ms, FrameKind kind);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
   void releaseBefore(int k0);
   NearGeometry nearGeometry(int k0, int k1) const;
@@ -113,6 +120,7 @@ class WalkLoop {
   void summariseLod(json& s) const;
   void summariseTiming(json& s) const;
   void summariseBudget(json& s) const;
+  void summariseModes(json& s) const;
 
   const scenes::Scene& scene_;
   const std::string& label_;
@@ -132,6 +140,14 @@ class WalkLoop {
   std::unique_ptr<keyframe::AsyncKeyframes> kfWorker_;
   std::unique_ptr<keyframe::KeyframeCache> cache_;
   double warmupMs_ = 0;
+  // The frame mode: this segment warped or drawn as geometry, and the costs
+  // the choice is made from (FrameMode::Auto).
+  bool warping_ = true;
+  ModeChooser chooser_{opt_.modeChooser};
+  double warpFloorMs_ = -1;
+  int decidedAt_ = -1;  // the frame whose segment was last decided
+  int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
+  int modeSwitches_ = 0;
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
   bool builtThisFrame_ = false;
@@ -154,6 +170,7 @@ class WalkLoop {
   bool havePrevious_ = false;
   Image<Rgba8> reference_;
   std::vector<int> stripFrames_;
+  std::size_t nextStrip_ = 0;  // the first strip not taken yet
   std::size_t inBetweenCount_ = 0;
 
   Stopwatch frameSw_;
@@ -254,10 +271,18 @@ Status WalkLoop::setUpKeyframes() {
 // are built (or, async, waited for) before the walk starts.
 Status WalkLoop::warmUp() {
   Stopwatch warmupSw;
-  if (asyncKf_) HW_TRY(cache_->prefetch(frames_ > 1 ? 1 : 0));
-  for (int k : {schedule_.bracket(0).first, schedule_.bracket(frames_ > 1 ? 1 : 0).second}) {
-    auto kf = cache_->get(k);
-    if (!kf) return kf.error();
+  warping_ = opt_.mode != FrameMode::Geometry;
+  if (opt_.mode == FrameMode::Auto) {
+    HW_TRY(calibrateModes());
+    warping_ = chooser_.warpNext(false, segmentLength(0));
+    decidedAt_ = 0;
+  }
+  if (warping_) {
+    if (asyncKf_) HW_TRY(cache_->prefetch(frames_ > 1 ? 1 : 0));
+    for (int k : {schedule_.bracket(0).first, schedule_.bracket(frames_ > 1 ? 1 : 0).second}) {
+      auto kf = cache_->get(k);
+      if (!kf) return kf.error();
+    }
   }
   warmupMs_ = warmupSw.ms();
   warmupStalls_ = cache_->stalls();
@@ -280,6 +305,54 @@ Status WalkLoop::warmUp() {
     return makeError("walk: staleAfter " + std::to_string(opt_.staleAfter) +
                      ": expected at least 1 frame");
   return calibrateRefresh();
+}
+
+// FrameMode::Auto starts from two costs measured before the first frame: a
+// geometry frame at the first camera (its second render), and a floor under
+// any in-between frame, the warp of a keyframe of a plain box room around that
+// camera (a few quads, nothing of the scene), also timed on its second run.
+// The floor stands for the in-between cost until one is measured, so a scene
+// that draws faster than the floor never builds a keyframe.
+Status WalkLoop::calibrateModes() {
+  const Camera& cam = cams_[0];
+  keyframe::RenderStats rs;
+  for (int rep = 0; rep < 2; ++rep) HW_TRY(renderer_->renderColour(cam, reference_, &rs));
+  chooser_.addGeometryMs(rs.drawMs + rs.readbackMs);
+  keyframe::AnalyticScene room;
+  const double r = std::clamp(cam.nearPlane * 50, cam.nearPlane * 2, cam.farPlane * 0.5);
+  room.boxes.push_back({cam.eye - glm::dvec3(r), cam.eye + glm::dvec3(r), Rgba8{128, 128, 128, 255}});
+  const keyframe::Keyframe kf = keyframe::renderAnalyticKeyframe(room, cam);
+  keyframe::QuadMesh mesh;
+  keyframe::LodBuilder builder;
+  HW_TRY(builder.build(kf, opt_.lod, &mesh));
+  auto src = warper_->upload(kf, mesh, nullptr);
+  if (!src) return src.error();
+  InBetweenStats st;
+  for (int rep = 0; rep < 2; ++rep) {
+    Stopwatch sw;
+    HW_TRY(step_.draw(*warper_, **src, nullptr, cam, nullptr, nullptr, frame_, st));
+    warpFloorMs_ = sw.ms();
+  }
+  chooser_.setWarpFloorMs(warpFloorMs_);
+  return {};
+}
+
+// Frames from keyframe k to the next keyframe (1 for the last frame).
+int WalkLoop::segmentLength(int k) const {
+  return k + 1 < frames_ ? schedule_.bracket(k + 1).second - k : 1;
+}
+
+// How frame i is drawn. FrameMode::Auto decides at each keyframe of the
+// schedule, for the segment that starts there, whether to warp it.
+FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
+  if (opt_.mode == FrameMode::Auto && k0 == k1 && i != decidedAt_) {
+    const bool warp = chooser_.warpNext(warping_, segmentLength(i));
+    modeSwitches_ += warp != warping_;
+    warping_ = warp;
+    decidedAt_ = i;
+  }
+  if (!warping_) return FrameKind::Geometry;
+  return k0 == k1 ? FrameKind::Keyframe : FrameKind::Warp;
 }
 
 // The refresh render's cost model, calibrated before the first frame: two
@@ -338,6 +411,7 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
   sources_[k] = std::move(*src);
   uploadStats_[k] = ws;
   const auto& ms = (*kf)->mesh.stats;
+  chooser_.addGeometryMs((*kf)->renderMs);
   s.keyframeMs.push_back((*kf)->renderMs + ms.deltaMs + ms.subdivideMs + ms.cornersMs +
                          ws.uploadMs);
   s.quadsPerKeyframe.push_back(static_cast<double>(ms.quads));
@@ -362,7 +436,7 @@ NearGeometry WalkLoop::nearGeometry(int k0, int k1) const {
 // pacing a sleep until the budget has passed since the frame started, and
 // ms["interval"], the presented frame interval (work + that wait; the
 // reference render and the metrics stay outside both).
-void WalkLoop::endFrameWork(json& ms, bool keyframeFrame) {
+void WalkLoop::endFrameWork(json& ms, FrameKind kind) {
   auto& s = recorder_.series;
   auto& c = recorder_.counts;
   if (kfWorker_ && opt_.keyframePacing == WalkOptions::KeyframePacing::Slices) {
@@ -377,7 +451,7 @@ void WalkLoop::endFrameWork(json& ms, bool keyframeFrame) {
   if (budgeted) {
     if (work > budgetMs_) {
       ++c.budgetOverruns;
-      c.budgetOverrunsInBetween += !keyframeFrame;
+      c.budgetOverrunsInBetween += kind == FrameKind::Warp;
       // Within the budget before a refresh, over it after: the estimate missed.
       c.budgetOverrunsByRefresh += workBeforeRefreshMs_ >= 0 && workBeforeRefreshMs_ <= budgetMs_;
     }
@@ -392,9 +466,47 @@ void WalkLoop::endFrameWork(json& ms, bool keyframeFrame) {
   ms["pacing_wait"] = std::max(0.0, interval - work);
   ms["interval"] = interval;
   s.frameIntervalMs.push_back(interval);
-  recorder_.frameTimes.push(currentFrame_, keyframeFrame, builtThisFrame_, work, interval,
+  recorder_.frameTimes.push(currentFrame_, kind, builtThisFrame_, work, interval,
                             budgeted ? budgetMs_ : 0.0, currentRefMs_);
-  if (!keyframeFrame) s.inBetweenIntervalMs.push_back(interval);
+  if (kind == FrameKind::Warp) s.inBetweenIntervalMs.push_back(interval);
+}
+
+// A frame drawn by the geometry renderer: exact, so it is its own reference
+// (one render; psnr null as for identical images, ssim 1).
+Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
+  const Camera& cam = cams_[static_cast<std::size_t>(i)];
+  keyframe::RenderStats rs;
+  HW_TRY(renderer_->renderColour(cam, frame_.colour, &rs));
+  showKeyframe(frame_.colour, frame_);
+  const double renderMs = rs.drawMs + rs.readbackMs;
+  chooser_.addGeometryMs(renderMs);
+  ms["geometry"] = renderMs;
+  ms["total"] = renderMs;
+  if (opt_.reference) {
+    currentRefMs_ = renderMs;
+    recorder_.series.referenceMs.push_back(renderMs);
+  }
+  if (trackAge_) {
+    Stopwatch sa;
+    const gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    ms["age"] = sa.ms();
+    fj["stale_pixels"] = as.stale;
+    fj["max_age"] = as.maxAge;
+  }
+  // Warping the next segment predicted to pay: its keyframes are built ahead.
+  const int next = schedule_.bracket(i).second;
+  if (asyncKf_ && opt_.mode == FrameMode::Auto && next != i &&
+      chooser_.warpNext(false, segmentLength(next)))
+    HW_TRY(cache_->prefetch(next));
+  endFrameWork(ms, FrameKind::Geometry);
+  fj["is_keyframe"] = false;
+  fj["keyframes"] = json::array();
+  fj["quads"] = 0;
+  fj["holes_before_fallback"] = 0.0;
+  fj["holes_after_fallback"] = 0.0;
+  fj["psnr"] = nullptr;
+  fj["ssim"] = opt_.reference ? json(1.0) : json(nullptr);
+  return {};
 }
 
 Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
@@ -437,7 +549,8 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
     fj["stale_pixels"] = as.stale;
     fj["max_age"] = as.maxAge;
   }
-  endFrameWork(ms, true);
+  endFrameWork(ms, FrameKind::Keyframe);
+  chooser_.addKeyframeMs(ms["frame"].get<double>());
   fj["holes_before_fallback"] = 0.0;
   fj["holes_after_fallback"] = 0.0;
   if (opt_.reference) {
@@ -553,8 +666,9 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   fj["skipped"] = {{"background", st.backgroundSkipped()}, {"previous_frame", st.previousSkipped}};
   fj["foreground_uncovered_pixels"] = st.foregroundUncovered;
   s.foregroundUncovered.push_back(st.foregroundUncovered);
-  endFrameWork(ms, false);
+  endFrameWork(ms, FrameKind::Warp);
   s.inBetweenFrameMs.push_back(ms["frame"].get<double>());
+  chooser_.addInBetweenMs(ms["frame"].get<double>());
   if (opt_.frameBudgetAuto)  // the next frames' budget: this frame's work without its refresh
     autoBudget_->add(ms["frame"].get<double>() -
                      (ms.contains("refresh") ? ms["refresh"].get<double>() : 0.0));
@@ -609,8 +723,14 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     fj["large_quad_pixels"] = nullptr;
     fj["psnr_large_quads"] = nullptr;
   }
-  if (writing_ && opt_.reference &&
-      std::find(stripFrames_.begin(), stripFrames_.end(), i) != stripFrames_.end()) {
+  // A strip frame drawn as geometry (FrameMode::Auto) passes its strip to
+  // the next warped frame.
+  bool strip = false;
+  while (nextStrip_ < stripFrames_.size() && stripFrames_[nextStrip_] <= i) {
+    strip = true;
+    ++nextStrip_;
+  }
+  if (writing_ && opt_.reference && strip) {
     const Image<Rgba8> diff = diffImage(frame_.colour, reference_, 4);
     const Image<Rgba8> holes =
         maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{30, 30, 30, 255});
@@ -639,9 +759,10 @@ Status WalkLoop::frame(int i) {
   json fj;
   fj["index"] = i;
   const auto [k0, k1] = schedule_.bracket(i);
+  const FrameKind kind = chooseKind(i, k0, k1);
   json ms = json::object();
   currentRefMs_ = std::nan("");
-  if (opt_.reference) {
+  if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own
     keyframe::RenderStats rs;
     HW_TRY(renderer_->renderColour(cam, reference_, &rs));
     currentRefMs_ = rs.drawMs + rs.readbackMs;
@@ -659,12 +780,16 @@ Status WalkLoop::frame(int i) {
   frameWaitMs_ = 0;
   if (asyncKf_) {
     kfWorker_->frameTick();
-    HW_TRY(cache_->prefetch(i));
+    if (warping_) HW_TRY(cache_->prefetch(i));
   }
-  if (k0 == k1)
+  if (kind == FrameKind::Geometry)
+    HW_TRY(geometryFrame(i, fj, ms));
+  else if (kind == FrameKind::Keyframe)
     HW_TRY(keyframeFrame(i, k0, fj, ms));
   else
     HW_TRY(inBetweenFrame(i, k0, k1, fj, ms));
+  ++kindCounts_[static_cast<int>(kind)];
+  fj["mode"] = frameKindName(kind);
   ms["keyframe_wait"] = frameWaitMs_;
   recorder_.series.frameMs.push_back(ms["frame"].get<double>());
   fj["reference_ms"] = opt_.reference ? json(currentRefMs_) : json(nullptr);
@@ -675,7 +800,7 @@ Status WalkLoop::frame(int i) {
                     maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255},
                                 Rgba8{0, 0, 0, 255})));
   }
-  if (!fj["is_keyframe"].get<bool>() && fj["reference_ms"].is_number())
+  if (kind == FrameKind::Warp && fj["reference_ms"].is_number())
     recorder_.series.speedup.push_back(fj["reference_ms"].get<double>() /
                                        fj["ms"]["total"].get<double>());
   HW_TRY(recorder_.addFrame(std::move(fj)));
@@ -739,6 +864,7 @@ json WalkLoop::summary() const {
   s["resident_kib_every_500_frames"] = recorder_.residentKiB;
   summariseTiming(s);
   summariseBudget(s);
+  summariseModes(s);
   s["machine"] = machineInfo(opt_.glRenderer, opt_.glVersion);
   s["strips"] = recorder_.stripInfo;
   return s;
@@ -860,6 +986,31 @@ void WalkLoop::summariseBudget(json& s) const {
   s["budget_overruns_in_between"] = budgetOn_ ? json(c.budgetOverrunsInBetween) : json(nullptr);
   s["budget_overruns_by_refresh"] = budgetOn_ ? json(c.budgetOverrunsByRefresh) : json(nullptr);
   s["refresh_predicted_over_measured"] = seriesStats(r.refreshPredictedOverMeasured);
+}
+
+// The frame mode: how many frames each way, the costs the choice ended
+// with, and the headline ratio of frame time to geometry time.
+void WalkLoop::summariseModes(json& s) const {
+  const auto& r = recorder_.series;
+  s["mode"] = frameModeName(opt_.mode);
+  s["frames_by_mode"] = {{"geometry", kindCounts_[0]},
+                         {"warp", kindCounts_[1]},
+                         {"keyframe", kindCounts_[2]}};
+  s["mode_switches"] = modeSwitches_;
+  s["mode_costs"] =
+      opt_.mode == FrameMode::Auto
+          ? json{{"geometry_ms", finiteOrNull(chooser_.geometryMs())},
+                 {"in_between_ms", finiteOrNull(chooser_.inBetweenMs())},
+                 {"warp_floor_ms", warpFloorMs_ >= 0 ? json(warpFloorMs_) : json(nullptr)},
+                 {"enter_below", opt_.modeChooser.enterBelow},
+                 {"leave_above", opt_.modeChooser.leaveAbove}}
+          : json(nullptr);
+  auto over = [](double a, double b) { return b > 0 ? finiteOrNull(a / b) : json(nullptr); };
+  s["frame_over_reference"] =
+      r.referenceMs.empty()
+          ? json(nullptr)
+          : json{{"median", over(median(r.frameMs), median(r.referenceMs))},
+                 {"p95", over(percentile(r.frameMs, 95), percentile(r.referenceMs, 95))}};
 }
 
 }  // namespace

@@ -19,12 +19,19 @@
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
+#include "session/frame_mode.h"
 #include "session/in_between.h"
 #include "warp/warper.h"
 
 namespace hw::session {
 
 struct WalkOptions {
+  // How frames are drawn: Hybrid (every frame warped or a keyframe, the
+  // paper's), Geometry (no keyframes), or Auto: per keyframe segment, the one
+  // predicted cheaper from costs measured in this run (session/frame_mode.h).
+  // Geometry frames render once: the frame is its own reference.
+  FrameMode mode = FrameMode::Hybrid;
+  ModeChooserOptions modeChooser;
   keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
   keyframe::MeshMethod mesh = keyframe::MeshMethod::Lod;  // or a baseline (sweep)
   int tileSize = 8;                             // pixels, MeshMethod::UniformTiles
@@ -112,13 +119,14 @@ struct WalkOptions {
 struct FrameTimes {
   std::vector<int> frame;           // frame index
   std::vector<char> keyframe;       // 1 = the frame shows a keyframe
+  std::vector<FrameKind> kind;      // how the frame was drawn
   std::vector<char> builtKeyframe;  // 1 = the frame paid for building or uploading a keyframe
   std::vector<double> workMs;       // ms.frame
   std::vector<double> intervalMs;   // ms.interval (work + pacing wait)
   std::vector<double> budgetMs;     // the frame's budget; 0 = none
   std::vector<double> referenceMs;  // geometry render at the same camera; NaN without reference
   void reserve(std::size_t n);
-  void push(int i, bool isKeyframe, bool built, double work, double interval, double budget,
+  void push(int i, FrameKind k, bool built, double work, double interval, double budget,
             double reference);
 };
 

@@ -1,0 +1,74 @@
+#pragma once
+// How each frame is drawn: by the geometry renderer, or by warping keyframes
+// (a keyframe frame shows its keyframe; an in-between frame warps the two
+// around it). With FrameMode::Auto a ModeChooser picks, per keyframe segment,
+// whichever is predicted cheaper from costs measured in this run, so a scene
+// that draws faster than it warps builds no keyframes at all.
+#include <array>
+#include <cstddef>
+#include <string>
+
+namespace hw::session {
+
+// What the user asks for (`--mode`).
+enum class FrameMode {
+  Auto,      // per segment, the cheaper of geometry and warping (geometry when about even)
+  Hybrid,    // every frame warped or a keyframe (the paper's pipeline; studies)
+  Geometry,  // every frame drawn by the geometry renderer; no keyframes
+};
+const char* frameModeName(FrameMode m);
+bool parseFrameMode(const std::string& s, FrameMode* out);  // "auto", "hybrid", "geometry"
+
+// How one frame was drawn (report.json frames[].mode).
+enum class FrameKind : char { Geometry = 0, Warp = 1, Keyframe = 2 };
+const char* frameKindName(FrameKind k);  // "geometry", "warp", "keyframe"
+
+struct ModeChooserOptions {
+  // Warping starts when its predicted cost per frame is below enterBelow x
+  // the geometry frame's, and stops when it rises above leaveAbove x. Both
+  // below 1: at about equal cost the geometry (exact) is kept, and the gap
+  // between them keeps the choice from flipping every segment.
+  double enterBelow = 0.75;
+  double leaveAbove = 0.9;
+};
+
+// Predicts whether warping a segment of F frames (one keyframe frame and F-1
+// in-between frames) costs less per frame than drawing those frames as
+// geometry. Costs are the medians of the last kWindow samples of each kind
+// (ms of frame work at the walk's resolution). Allocation-free.
+class ModeChooser {
+ public:
+  static constexpr std::size_t kWindow = 15;
+  explicit ModeChooser(ModeChooserOptions options = {}) : opt_(options) {}
+
+  void addGeometryMs(double ms) { geometry_.add(ms); }    // a geometry render + readback
+  void addInBetweenMs(double ms) { inBetween_.add(ms); }  // an in-between frame's work
+  void addKeyframeMs(double ms) { keyframe_.add(ms); }    // a keyframe frame's work
+  // A lower bound on an in-between frame's work (a one-quad warp, measured
+  // before any keyframe exists): the in-between estimate until one is measured.
+  void setWarpFloorMs(double ms) { floorMs_ = ms; }
+
+  double geometryMs() const { return geometry_.median(); }  // NaN: none yet
+  double inBetweenMs() const;  // measured median, else the floor; NaN: neither
+  // ms per frame of a warped segment of `framesPerSegment` (>= 1) frames: the
+  // keyframe frame counts as measured, or as a geometry frame until one is.
+  // NaN while the geometry or the in-between cost is unknown.
+  double predictedWarpMs(double framesPerSegment) const;
+  // Whether the next segment is warped, given whether this one is. Unknown
+  // costs keep the current choice.
+  bool warpNext(bool warpingNow, double framesPerSegment) const;
+  const ModeChooserOptions& options() const { return opt_; }
+
+ private:
+  struct Window {
+    std::array<double, kWindow> v{};
+    std::size_t n = 0, next = 0;
+    void add(double ms);
+    double median() const;
+  };
+  ModeChooserOptions opt_;
+  Window geometry_, inBetween_, keyframe_;
+  double floorMs_ = -1;
+};
+
+}  // namespace hw::session

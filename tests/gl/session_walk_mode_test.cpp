@@ -1,0 +1,143 @@
+// The walk's frame mode (session/frame_mode.h): geometry frames are exact and
+// build no keyframes; an automatic choice that flips per segment warps exactly
+// the segments it chose, with keyframes built only for them, and its warped
+// segments are the hybrid walk's frames bit for bit. The choice's thresholds are forced (a timed outcome would
+// not be a test): ModeChooser's decisions are tested in
+// tests/cpu/session_frame_mode_test.cpp.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "core/file_io.h"
+#include "gl_fixture.h"
+#include "keyframe/geometry_renderer.h"
+#include "session/walk.h"
+#include "walk_fixture.h"
+
+namespace hw {
+namespace {
+
+class WalkModeTest : public test::GlTest {};
+
+std::string tempDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() /
+                 ("hw_walk_mode_" + name + "_" +
+                  std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::remove_all(d);
+  return d.string();
+}
+
+session::WalkOptions options(session::FrameMode mode, const std::string& out) {
+  session::WalkOptions wo;
+  wo.mode = mode;
+  wo.saveFrames = true;
+  wo.strips = 2;
+  wo.progress = false;
+  wo.outDir = out;
+  return wo;
+}
+
+std::string frameFile(const std::string& out, int i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/frames/%04d.png", i);
+  return out + name;
+}
+
+TEST_F(WalkModeTest, GeometryModeDrawsEveryFrameExactlyAndBuildsNoKeyframe) {
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 12, 5);
+  const std::string out = tempDir("geometry");
+  auto walk = session::runWalk(in.scene, "indoor:20k", in.path,
+                               options(session::FrameMode::Geometry, out));
+  ASSERT_TRUE(walk.ok()) << walk.error().message;
+  const auto& s = walk->report["summary"];
+  EXPECT_EQ(s["mode"], "geometry");
+  EXPECT_EQ(s["keyframes"], 0);
+  EXPECT_EQ(s["frames_by_mode"]["geometry"], 12);
+  EXPECT_EQ(s["frames_by_mode"]["warp"], 0);
+  EXPECT_EQ(s["frames_by_mode"]["keyframe"], 0);
+  EXPECT_EQ(s["psnr"]["count"], 0);  // PSNR covers warped frames only
+  EXPECT_EQ(s["reference_ms"]["count"], 12);
+  ASSERT_EQ(walk->report["frames"].size(), 12u);
+  for (const auto& f : walk->report["frames"]) {
+    EXPECT_EQ(f["mode"], "geometry");
+    EXPECT_EQ(f["ssim"], 1.0);
+    EXPECT_EQ(f["ms"]["frame"].get<double>() >= f["ms"]["geometry"].get<double>(), true);
+  }
+  // Each saved frame is the geometry renderer's image at that camera.
+  auto r = keyframe::GeometryRenderer::create(in.scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  for (int i : {0, 7, 11}) {
+    Image<Rgba8> ref;
+    ASSERT_TRUE((*r)->renderColour(in.path.cameraAt(i), ref).ok());
+    auto saved = readPng(frameFile(out, i));
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    EXPECT_EQ(saved->pixels(), ref.pixels()) << "frame " << i;
+  }
+  for (auto kind : walk->frameTimes.kind) EXPECT_EQ(kind, session::FrameKind::Geometry);
+  std::filesystem::remove_all(out);
+}
+
+TEST_F(WalkModeTest, AutoWarpsOnlyTheSegmentsItChoosesAndBuildsOnlyTheirKeyframes) {
+  // Enter below a huge ratio, leave above 0: warp, geometry, warp, ... per
+  // segment of 5 frames (keyframes 0, 5, 10, 15; the last frame 15 alone).
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 16, 5);
+  const std::string autoOut = tempDir("auto"), hybridOut = tempDir("hybrid");
+  session::WalkOptions wo = options(session::FrameMode::Auto, autoOut);
+  wo.modeChooser.enterBelow = 1e30;
+  wo.modeChooser.leaveAbove = 0;
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  auto h = session::runWalk(in.scene, "indoor:20k", in.path,
+                            options(session::FrameMode::Hybrid, hybridOut));
+  ASSERT_TRUE(h.ok()) << h.error().message;
+
+  const char* expected[16] = {"keyframe", "warp",     "warp",     "warp",     "warp",     "geometry",
+                              "geometry", "geometry", "geometry", "geometry", "keyframe", "warp",
+                              "warp",     "warp",     "warp",     "geometry"};
+  const auto& frames = a->report["frames"];
+  ASSERT_EQ(frames.size(), 16u);
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(frames[i]["mode"], expected[i]) << "frame " << i;
+  const auto& s = a->report["summary"];
+  EXPECT_EQ(s["mode"], "auto");
+  EXPECT_EQ(s["frames_by_mode"]["geometry"], 6);
+  EXPECT_EQ(s["frames_by_mode"]["warp"], 8);
+  EXPECT_EQ(s["frames_by_mode"]["keyframe"], 2);
+  EXPECT_EQ(s["mode_switches"], 3);
+  // Keyframes 0, 5 (bracketing the first segment), 10 and 15: never one for
+  // a geometry segment alone.
+  EXPECT_EQ(s["keyframes"], 4);
+  EXPECT_EQ(s["psnr"]["count"], 8);
+  EXPECT_TRUE(s["mode_costs"]["warp_floor_ms"].is_number());
+  EXPECT_TRUE(s["frame_over_reference"]["median"].is_number());
+  // The warped segments are the hybrid walk's, bit for bit: each starts at
+  // its keyframe frame, so its previous-frame chain is the hybrid walk's.
+  for (int i : {0, 1, 2, 3, 4, 10, 11, 12, 13, 14})
+    EXPECT_EQ(test::readBytes(frameFile(autoOut, i)), test::readBytes(frameFile(hybridOut, i)))
+        << "frame " << i;
+  // The hybrid walk warps every frame.
+  EXPECT_EQ(h->report["summary"]["frames_by_mode"]["geometry"], 0);
+  EXPECT_EQ(h->report["summary"]["mode"], "hybrid");
+  // Strips only of warped frames.
+  ASSERT_FALSE(s["strips"].empty());
+  for (const auto& st : s["strips"]) EXPECT_EQ(frames[st["frame"].get<int>()]["mode"], "warp");
+  std::filesystem::remove_all(autoOut);
+  std::filesystem::remove_all(hybridOut);
+}
+
+TEST_F(WalkModeTest, AutoThatNeverWarpsBuildsNoKeyframe) {
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 12, 5);
+  session::WalkOptions wo = options(session::FrameMode::Auto, "");
+  wo.saveFrames = false;
+  wo.modeChooser.enterBelow = 0;  // nothing is cheaper than 0 x the geometry
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const auto& s = a->report["summary"];
+  EXPECT_EQ(s["keyframes"], 0);
+  EXPECT_EQ(s["frames_by_mode"]["geometry"], 12);
+  EXPECT_EQ(s["mode_switches"], 0);
+  EXPECT_GT(s["mode_costs"]["geometry_ms"].get<double>(), 0);
+}
+
+}  // namespace
+}  // namespace hw
