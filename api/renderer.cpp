@@ -19,6 +19,7 @@
 #include "keyframe/geometry_renderer.h"
 #include "session/free_frames.h"
 #include "session/path_frames.h"
+#include "session/presets.h"
 #include "session/walk.h"
 #include "warp/layer.h"
 
@@ -68,7 +69,10 @@ hw::Status mapOptions(const RendererDesc& d, hw::session::WalkOptions& w) {
   if (!(l.tau >= 0) || !std::isfinite(l.tau)) return bad("lod.tau", l.tau, "a finite number >= 0");
   if (!(l.tauParallaxPx >= 0) || !std::isfinite(l.tauParallaxPx))
     return bad("lod.tauParallaxPx", l.tauParallaxPx, "a finite number >= 0");
-  if (l.tau > 0) w.lod.tau = l.tau;
+  if (l.tau > 0) {
+    w.lod.tau = l.tau;
+    w.lod.tauParallaxPx = 0;  // an explicit τ replaces the preset's parallax bound
+  }
   if (l.tauParallaxPx > 0) w.lod.tauParallaxPx = l.tauParallaxPx;
   if (l.criterion == Criterion::FivePoint)
     w.lod.criterion = hw::keyframe::DeltaCriterion::FivePoint;
@@ -176,6 +180,13 @@ Renderer::~Renderer() = default;
 Result<Renderer> Renderer::create(const Scene& scene, const RendererDesc& desc) {
   auto impl = std::make_unique<Impl>();
   impl->desc = desc;
+  // The walk's preset, in hybrid mode: the per-segment mode choice is not
+  // in the API; keyframes are built when needed (the walk's asynchronous
+  // keyframes give the same frames).
+  impl->walk = hw::session::presetOptions(
+      desc.preset == Preset::Paper ? hw::session::Preset::Paper : hw::session::Preset::Default);
+  impl->walk.mode = hw::session::FrameMode::Hybrid;
+  impl->walk.asyncKeyframes = false;
   HW_TRY(mapOptions(desc, impl->walk));
   std::vector<hw::Camera> cams;
   for (std::size_t i = 0; i < desc.path.cameras.size(); ++i) {

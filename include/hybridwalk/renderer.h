@@ -12,8 +12,9 @@
 //    interactive viewer places them, one ahead along the camera's motion
 //    (extrapolated from the last two cameras) and one where the camera
 //    stands when no keyframe is near (that frame is then the keyframe).
-// Option structs work as given; a zero / Default field means the value
-// `hybridwalk walk` uses. Times are wall-clock milliseconds.
+// Option structs work as given; a zero / Default field means the value of
+// the preset (RendererDesc::preset), i.e. what `hybridwalk walk --mode
+// hybrid` uses. Times are wall-clock milliseconds.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -46,14 +47,21 @@ enum class Planarity { Default, Stencil, RegionLocal };                 // where
 enum class Compose { Default, Overlay, DepthMerge };                    // layer composition
 enum class DepthBuffer { Default, Fixed24, Float32, Float32Reversed };  // keyframe depth
 enum class Toggle { Default, Off, On };
+// Where the defaults come from (`hybridwalk walk --preset`): Default, the
+// settings measured best over many scenes (τ as a parallax bound of 0.125 px
+// per scene unit, region-local planarity, strip merging); Paper, Zheng et
+// al. 1999 exactly (τ = 2^11 z' units, five-point stencil, no merging).
+enum class Preset { Default, Paper };
 
 // The level-of-detail quad mesh of each keyframe (docs/how-it-works.md).
 struct LodDesc {
-  double tau = 0;            // |Δ²z'| threshold, z' units (2^24 scale); 0 = 2^11
-  double tauParallaxPx = 0;  // > 0 replaces tau: parallax error bound, pixels per scene unit
-  Criterion criterion = Criterion::Default;  // five-point
-  Planarity planarity = Planarity::Default;  // stencil (the paper's)
-  Toggle mergeStrips = Toggle::Default;      // merge coplanar 1-pixel strips: off
+  // |Δ²z'| threshold, z' units (2^24 scale); > 0 (with tauParallaxPx 0)
+  // replaces the preset's threshold; 0 = the preset's.
+  double tau = 0;
+  double tauParallaxPx = 0;  // > 0: parallax error bound, pixels per scene unit (replaces tau)
+  Criterion criterion = Criterion::Default;  // both presets: five-point
+  Planarity planarity = Planarity::Default;  // Default: region-local; Paper: stencil
+  Toggle mergeStrips = Toggle::Default;      // merge coplanar 1-pixel strips; Default: on
 };
 
 // Where keyframes go with a free camera (render()). A keyframe is one pose
@@ -69,6 +77,7 @@ struct RendererDesc {
   ContextKind context = ContextKind::Own;
   GetProcAddress getProcAddress = nullptr;  // ContextKind::Current: e.g. glfwGetProcAddress
   Mode mode = Mode::Hybrid;
+  Preset preset = Preset::Default;
   LodDesc lod;
   KeyframeDesc keyframes;
   Compose compose = Compose::Default;  // overlay (the paper's)

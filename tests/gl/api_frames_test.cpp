@@ -14,6 +14,7 @@
 #include "api/internal.h"
 #include "core/file_io.h"
 #include "hybridwalk/hybridwalk.h"
+#include "session/presets.h"
 #include "session/walk.h"
 #include "tests/gl/gl_fixture.h"
 #include "tests/gl/walk_fixture.h"
@@ -79,19 +80,25 @@ void expectWalkFrames(const std::string& spec, const hw::test::Indoor& in,
 
 TEST(ApiFrames, PathFramesAreTheWalksWithDefaultOptions) {
   const auto in = hw::test::smallIndoor("indoor:20k", 160, 23, 6);
+  // `hybridwalk walk --mode hybrid`: the default preset, keyframes built
+  // ahead on a worker thread.
+  hw::session::WalkOptions wo = hw::session::presetOptions(hw::session::Preset::Default);
+  wo.mode = hw::session::FrameMode::Hybrid;
+  ASSERT_TRUE(wo.asyncKeyframes);
   hwa::RendererDesc desc;
   desc.depth = true;  // the layers then carry eye z too: the same colours
-  expectWalkFrames("indoor:20k", in, hw::session::WalkOptions{}, desc, "defaults");
+  expectWalkFrames("indoor:20k", in, wo, desc, "defaults");
 }
 
 TEST(ApiFrames, PathFramesAreTheWalksWithOtherOptions) {
   const auto in = hw::test::smallIndoor("indoor:20k", 128, 14, 5);
-  hw::session::WalkOptions wo;
+  hw::session::WalkOptions wo = hw::session::presetOptions(hw::session::Preset::Paper);
   wo.lod.tau = 32768;
   wo.lod.planarity = hw::keyframe::Planarity::RegionLocal;
   wo.inBetween.compose.mode = hw::gapfill::ComposeMode::DepthMerge;
   wo.depthMode = hw::DepthMode::Fixed24;
   hwa::RendererDesc desc;
+  desc.preset = hwa::Preset::Paper;
   desc.lod.tau = 32768;
   desc.lod.planarity = hwa::Planarity::RegionLocal;
   desc.compose = hwa::Compose::DepthMerge;
