@@ -1,0 +1,205 @@
+// Keyframes around a free camera (the synchronous viewer's policy) and the
+// shared in-between step.
+#include "session/free_frames.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <string>
+#include <utility>
+
+#include "core/gl/context.h"
+#include "core/timer.h"
+
+namespace hw::session {
+namespace {
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+}
+
+bool sameView(const Camera& a, const Camera& b) {
+  return a.eye == b.eye && a.forward == b.forward && a.up == b.up && a.width == b.width &&
+         a.height == b.height && a.fovYRadians == b.fovYRadians;
+}
+
+}  // namespace
+
+FreeFrames::FreeFrames(const WalkOptions& options, const FreeKeyframeOptions& keyframes)
+    : opt_(options), kopt_(keyframes), step_(options.inBetween) {}
+
+FreeFrames::~FreeFrames() = default;
+
+Result<std::unique_ptr<FreeFrames>> FreeFrames::create(const scenes::Scene& scene,
+                                                       const WalkOptions& options,
+                                                       const FreeKeyframeOptions& keyframes,
+                                                       bool writeEyeZ) {
+  if (!(keyframes.distance > 0) || !std::isfinite(keyframes.distance))
+    return makeError("keyframe distance: expected a finite number > 0 (scene units), got " +
+                     std::to_string(keyframes.distance));
+  if (!(keyframes.angleDeg > 0) || !std::isfinite(keyframes.angleDeg))
+    return makeError("keyframe angle: expected a finite number > 0 (degrees), got " +
+                     std::to_string(keyframes.angleDeg));
+  std::unique_ptr<FreeFrames> f(new FreeFrames(options, keyframes));
+  HW_TRY(f->setUp(scene, writeEyeZ));
+  return f;
+}
+
+Status FreeFrames::setUp(const scenes::Scene& scene, bool writeEyeZ) {
+  writeEyeZ_ = writeEyeZ;
+  keyframe::RenderOptions ropt;
+  ropt.depthMode = opt_.depthMode;
+  ropt.keyframeExcludeNear = opt_.inBetween.nearDistance;
+  auto rendererR = keyframe::GeometryRenderer::create(scene, ropt);
+  if (!rendererR) return rendererR.error();
+  renderer_ = std::move(*rendererR);
+  warp::WarpOptions wopt = opt_.warp;
+  wopt.writeEyeZ = opt_.inBetween.needsEyeZ() || writeEyeZ;
+  auto warperR = warp::Warper::create(wopt);
+  if (!warperR) return warperR.error();
+  warper_ = std::move(*warperR);
+  return {};
+}
+
+double FreeFrames::poseDistance(const Camera& a, const Camera& b) const {
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  return glm::length(a.eye - b.eye) / kopt_.distance +
+         angleBetween(a.forward, b.forward) / (kopt_.angleDeg * kDegToRad);
+}
+
+Camera FreeFrames::aheadCamera(const Camera& prev, const Camera& cam, double distance) const {
+  const double rate = poseDistance(prev, cam);  // pose units per frame
+  if (!(rate > 1e-9)) return cam;
+  const double t = distance / rate;  // frames ahead
+  const glm::dvec3 eye = cam.eye + (cam.eye - prev.eye) * t;
+  // The turn from prev to cam, t times over (Rodrigues' rotation).
+  glm::dvec3 forward = cam.forward, up = cam.up;
+  const glm::dvec3 axis = glm::cross(prev.forward, cam.forward);
+  const double s = glm::length(axis);
+  if (s > 1e-12) {
+    const glm::dvec3 k = axis / s;
+    const double angle = std::min(angleBetween(prev.forward, cam.forward) * t, 1.5);
+    auto rotate = [&](const glm::dvec3& v) {
+      return v * std::cos(angle) + glm::cross(k, v) * std::sin(angle) +
+             k * glm::dot(k, v) * (1 - std::cos(angle));
+    };
+    forward = glm::normalize(rotate(forward));
+    up = glm::normalize(rotate(up));
+  }
+  if (!std::isfinite(eye.x + eye.y + eye.z) || std::abs(glm::dot(forward, up)) > 0.999) return cam;
+  return Camera::lookAt(eye, eye + forward, up, cam.fovYRadians, cam.width, cam.height,
+                        cam.nearPlane, cam.farPlane);
+}
+
+Status FreeFrames::build(Slot& slot, const Camera& cam, FrameInfo* info) {
+  slot.valid = false;
+  slot.source.reset();
+  if (!slot.kf) slot.kf = std::make_unique<keyframe::CachedKeyframe>();
+  const keyframe::MeshSpec spec{opt_.mesh, opt_.lod, opt_.tileSize};
+  HW_TRY(keyframe::buildCachedKeyframe(*renderer_, builder_, spec, cam, 0, *slot.kf));
+  warp::WarpStats ws;
+  auto src = warper_->upload(slot.kf->keyframe, slot.kf->mesh, &ws);
+  if (!src) return src.error();
+  slot.source = std::move(*src);
+  slot.valid = true;
+  slot.serial = ++serial_;
+  const auto& ms = slot.kf->mesh.stats;
+  ++info->keyframesBuilt;
+  info->keyframeRenderMs += slot.kf->renderMs;
+  info->lodMs += ms.deltaMs + ms.subdivideMs + ms.cornersMs;
+  info->uploadMs += ws.uploadMs;
+  return {};
+}
+
+Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
+  *info = FrameInfo{};
+  Stopwatch total;
+  // Keyframes of another size or projection cannot be warped to this one.
+  for (Slot& s : slots_)
+    if (s.valid &&
+        (s.kf->keyframe.camera.width != cam.width || s.kf->keyframe.camera.height != cam.height ||
+         s.kf->keyframe.camera.fovYRadians != cam.fovYRadians ||
+         s.kf->keyframe.camera.nearPlane != cam.nearPlane ||
+         s.kf->keyframe.camera.farPlane != cam.farPlane)) {
+      s.valid = false;
+      s.source.reset();
+    }
+  if (havePrevious_ &&
+      (previous_.colour.width() != cam.width || previous_.colour.height() != cam.height))
+    havePrevious_ = false;
+  const bool moving = havePrevCam_ && poseDistance(cam, prevCam_) > 1e-9;
+  int nearest = -1, newest = -1, useful = 0;
+  double sNearest = 1e300, s[2] = {1e300, 1e300};
+  for (int i = 0; i < 2; ++i) {
+    const Slot& sl = slots_[static_cast<std::size_t>(i)];
+    if (!sl.valid) continue;
+    s[i] = poseDistance(sl.kf->keyframe.camera, cam);
+    if (s[i] < sNearest) nearest = i, sNearest = s[i];
+    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
+    if (s[i] < kFreeUseless) ++useful;
+  }
+  const double sNewest = newest >= 0 ? s[newest] : 1e300;
+  const bool receding = newest >= 0 &&
+                        slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_ &&
+                        sNewest > newestSPrev_;
+  const bool lost = nearest < 0 || sNearest > kFreeLost;
+  const bool wanted =
+      moving && (useful < 2 || (nearest == newest && sNewest > kFreePassedNewest && receding));
+  if (lost) {
+    HW_TRY(build(slots_[static_cast<std::size_t>(nearest < 0 ? 0 : 1 - nearest)], cam, info));
+  } else if (wanted) {
+    const Camera ahead = aheadCamera(prevCam_, cam, 1.0);
+    if (poseDistance(ahead, cam) > kFreePassedNewest)
+      HW_TRY(build(slots_[static_cast<std::size_t>(1 - nearest)], ahead, info));
+  }
+  int a = -1, b = -1;
+  newest = -1;
+  for (int i = 0; i < 2; ++i) {
+    const Slot& sl = slots_[static_cast<std::size_t>(i)];
+    if (!sl.valid) continue;
+    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
+    if (poseDistance(sl.kf->keyframe.camera, cam) >= kFreeUseless) continue;
+    (a < 0 ? a : b) = i;
+  }
+  HW_CHECK(a >= 0);  // a keyframe at the camera was built if none was near
+  if (newest >= 0) {
+    newestSPrev_ = poseDistance(slots_[static_cast<std::size_t>(newest)].kf->keyframe.camera, cam);
+    newestSerialPrev_ = slots_[static_cast<std::size_t>(newest)].serial;
+  }
+  if (b >= 0 && gapfill::chooseForeground(
+                    cam.eye, slots_[static_cast<std::size_t>(a)].kf->keyframe.camera.eye,
+                    slots_[static_cast<std::size_t>(b)].kf->keyframe.camera.eye) == 1)
+    std::swap(a, b);
+  const Slot& fg = slots_[static_cast<std::size_t>(a)];
+  const Slot* bg = b >= 0 ? &slots_[static_cast<std::size_t>(b)] : nullptr;
+  NearGeometry near;
+  near.renderer = renderer_.get();
+  near.eyes[0] = fg.kf->keyframe.camera.eye;
+  near.eyeCount = 1;
+  if (bg) near.eyes[near.eyeCount++] = bg->kf->keyframe.camera.eye;
+  if (sameView(fg.kf->keyframe.camera, cam)) {
+    info->keyframe = true;
+    info->quads = fg.kf->mesh.stats.quads;
+    showKeyframe(fg.kf->keyframe.colour, frame_);
+    if (writeEyeZ_) shownEyeZ_ = fg.kf->keyframe.eyeZ;
+    if (opt_.inBetween.nearDistance > 0) {
+      InBetweenStats ns;
+      HW_TRY(step_.drawNear(near, cam, fg.kf->keyframe.eyeZ, frame_, ns));
+      info->nearMs = ns.nearMs;
+    }
+  } else {
+    HW_TRY(step_.draw(*warper_, *fg.source, bg ? bg->source.get() : nullptr, cam,
+                      havePrevious_ ? &previous_ : nullptr, &near, frame_, info->inBetween));
+    info->quads = info->inBetween.quads();
+    info->nearMs = std::max(0.0, info->inBetween.nearMs);
+  }
+  std::swap(previous_, frame_);
+  havePrevious_ = true;
+  prevCam_ = cam;
+  havePrevCam_ = true;
+  gl::drainGlErrors();
+  info->totalMs = total.ms();
+  return {};
+}
+
+}  // namespace hw::session
