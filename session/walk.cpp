@@ -505,6 +505,8 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
     ms["age"] = sa.ms();
     fj["stale_pixels"] = as.stale;
     fj["max_age"] = as.maxAge;
+  } else {
+    fj["stale_pixels"] = 0;  // drawn now: nothing from an earlier frame
   }
   // Warping the next segment predicted to pay: its keyframes are built ahead.
   const int next = schedule_.bracket(i).second;
