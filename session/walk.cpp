@@ -491,6 +491,10 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
   keyframe::RenderStats rs;
   HW_TRY(renderer_->renderColour(cam, frame_.colour, &rs));
   showKeyframe(frame_.colour, frame_);
+  if (opt_.inBetween.reprojects()) {  // no depth read back: the next fill copies instead
+    frame_.eyeZ.resize(frame_.colour.width(), frame_.colour.height(), 0.0f);
+    frame_.camera = cam;
+  }
   const double renderMs = rs.drawMs + rs.readbackMs;
   chooser_.addGeometryMs(renderMs);
   ms["geometry"] = renderMs;

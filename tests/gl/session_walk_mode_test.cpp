@@ -125,6 +125,21 @@ TEST_F(WalkModeTest, AutoWarpsOnlyTheSegmentsItChoosesAndBuildsOnlyTheirKeyframe
   std::filesystem::remove_all(hybridOut);
 }
 
+TEST_F(WalkModeTest, ReprojectedFallbackAfterAGeometryFrameCopiesInsteadOfReprojecting) {
+  // A geometry frame reads back no depth: the warped frames after it must not
+  // reproject it with a stale depth or camera (they copy its pixels).
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 16, 5);
+  session::WalkOptions wo = options(session::FrameMode::Auto, "");
+  wo.saveFrames = false;
+  wo.inBetween.fallback = gapfill::Fallback::Reproject;
+  wo.modeChooser.enterBelow = 1e30;
+  wo.modeChooser.leaveAbove = 0;
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  EXPECT_EQ(a->report["summary"]["frames_by_mode"]["geometry"], 6);
+  EXPECT_EQ(a->report["summary"]["frames_by_mode"]["warp"], 8);
+}
+
 TEST_F(WalkModeTest, AutoThatNeverWarpsBuildsNoKeyframe) {
   test::Indoor in = test::smallIndoor("indoor:20k", 64, 12, 5);
   session::WalkOptions wo = options(session::FrameMode::Auto, "");
