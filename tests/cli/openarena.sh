@@ -6,7 +6,7 @@ source "$(dirname "$0")/lib.bash"
 "$hw" scenes list >"$tmp/list" 2>&1
 check "oa_dm5 is in the cache (run scripts/test.sh or 'hybridwalk scenes fetch')" grep -Eq '^q3 +q3:oa_dm5 ' "$tmp/list"
 check "all 50 maps listed" test "$(grep -c '^q3 ' "$tmp/list")" -eq 50
-"$hw" walk --scene q3:oa_dm5 --frames 21 --strips 1 --out "$tmp/w" --quiet >"$tmp/out" 2>"$tmp/err"
+"$hw" walk --mode hybrid --scene q3:oa_dm5 --frames 21 --strips 1 --out "$tmp/w" --quiet >"$tmp/out" 2>"$tmp/err"
 rc=$?; check "walk exits 0 ($(tail -2 "$tmp/err"))" test $rc -eq 0
 check "107k triangles (107414 + 14 of sky)" grep -q "oa_dm5: 107428 triangles" "$tmp/err"
 psnr=$(sed -n 's/.*in-between PSNR median \([0-9.]*\) dB.*/\1/p' "$tmp/out")

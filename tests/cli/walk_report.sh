@@ -2,7 +2,7 @@
 # A short real walk: report.json carries the DESIGN.md fields, strips exist,
 # and saved frames are non-trivial PNGs. Usage: walk_report.sh HYBRIDWALK SOURCE_DIR
 source "$(dirname "$0")/lib.bash"
-"$hw" walk --scene indoor:20k --frames 12 --save-frames --strips 2 --out "$tmp/w" --quiet >"$tmp/stdout" 2>"$tmp/stderr"
+"$hw" walk --mode hybrid --scene indoor:20k --frames 12 --save-frames --strips 2 --out "$tmp/w" --quiet >"$tmp/stdout" 2>"$tmp/stderr"
 code=$?
 check "walk exits 0 (stderr: $(tail -3 "$tmp/stderr"))" test $code -eq 0
 r="$tmp/w/report.json"

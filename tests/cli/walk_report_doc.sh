@@ -10,13 +10,16 @@ src=$2
 doc="$src/docs/walk-report.md"
 check "doc exists" test -s "$doc"
 common=(--scene indoor:20k --frames 12 --strips 0 --quiet)
-"$hw" walk "${common[@]}" --out "$tmp/a" >"$tmp/a.out" 2>&1
+# Modes pinned: --mode auto's choice depends on the run's timings.
+"$hw" walk "${common[@]}" --mode hybrid --out "$tmp/a" >"$tmp/a.out" 2>&1
 rc=$?; check "default walk exits 0 ($(tail -2 "$tmp/a.out"))" test $rc -eq 0
 # A budget large enough that a refresh always fits (no timing dependence),
 # without pacing so the walk does not sleep it away.
-"$hw" walk "${common[@]}" --async-keyframes --frame-budget-ms 1000 --no-frame-pacing --near 1 \
-  --out "$tmp/b" >"$tmp/b.out" 2>&1
+"$hw" walk "${common[@]}" --mode hybrid --async-keyframes --frame-budget-ms 1000 --no-frame-pacing \
+  --near 1 --out "$tmp/b" >"$tmp/b.out" 2>&1
 rc=$?; check "async+budget+near walk exits 0 ($(tail -2 "$tmp/b.out"))" test $rc -eq 0
+"$hw" walk --scene indoor:20k --frames 3 --strips 0 --quiet --mode geometry --out "$tmp/c" >"$tmp/c.out" 2>&1
+rc=$?; check "geometry walk exits 0 ($(tail -2 "$tmp/c.out"))" test $rc -eq 0
 
 cat >"$tmp/check.py" <<'PY'
 import json, re, sys
@@ -79,7 +82,7 @@ for p in problems:
     print("  " + p)
 sys.exit(1 if problems else 0)
 PY
-reports=("$tmp/a/report.json" "$tmp/b/report.json")
+reports=("$tmp/a/report.json" "$tmp/b/report.json" "$tmp/c/report.json")
 check "report.json written twice" test -s "$tmp/a/report.json" -a -s "$tmp/b/report.json"
 check "every written key is documented" python3 "$tmp/check.py" written-in-doc "$doc" "${reports[@]}"
 check "every documented key is written" python3 "$tmp/check.py" doc-in-written "$doc" "${reports[@]}"
