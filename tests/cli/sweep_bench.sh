@@ -24,6 +24,15 @@ check "index.html links the plot" grep -q 'pareto.png' "$tmp/s/index.html"
 "$hw" bench --quick --sizes 20k,40k --quiet --out "$tmp/b" >"$tmp/bout" 2>&1
 rc=$?; check "bench exits 0 ($(tail -2 "$tmp/bout"))" test $rc -eq 0
 check "bench.json" grep -q '"complexity"' "$tmp/b/bench.json"
+check "per-scene table: both quick scenes, default and paper, with frame/geometry ratios" python3 -c "
+import json,sys
+rows = json.load(open('$tmp/b/scenes.json'))['rows']
+ok = [r['scene'] for r in rows] == ['indoor:100k', 'outdoor:100k'] and all(
+    r[p]['frames'] == 41 and r[p]['frame_over_reference_median'] > 0 and
+    abs(r[p]['geometry_share'] + r[p]['warp_share'] + r[p]['keyframe_share'] - 1) < 1e-9 and
+    r['paper']['geometry_share'] == 0 for r in rows for p in ('default', 'paper'))
+sys.exit(0 if ok else 1)"
+check "scenes.md and scenes.csv" test -s "$tmp/b/scenes.md" -a -s "$tmp/b/scenes.csv"
 for p in complexity trace spacing; do check "$p.png" is_png "$tmp/b/$p.png"; done
 check "complexity.csv rows" test "$(($(wc -l <"$tmp/b/complexity.csv") - 1))" -eq 8
 check "index.html" grep -q 'Keyframe spacing' "$tmp/b/index.html"
