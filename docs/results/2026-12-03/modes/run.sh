@@ -5,7 +5,7 @@ for c in "indoor:100k|" "indoor:1M|" "outdoor:100k|" "q3:oa_dm5|paths/oa_dm5.jso
   sc=${c%%|*}; p=${c#*|}; pa=""; [ -n "$p" ] && pa="--path $p"
   for preset in default paper; do
     o=/tmp/bt/$(echo $sc | tr ':/' '__')_$preset
-    nice -n 5 build/bin/hybridwalk walk --scene $sc $pa --preset $preset --frames 120 --strips 2 --out $o --quiet > $o.stdout 2>&1
+    nice -n 5 build/bin/hybridwalk walk --scene $sc $pa --preset $preset --frames 120 --strips 0 --out $o --quiet > $o.stdout 2>&1
     echo "$sc $preset rc=$?" >> /tmp/bt/done.txt
   done
 done
