@@ -53,6 +53,7 @@ struct ViewCli {
   std::string viewTau = "2^11";
   std::string viewKeyframes;
   bool viewGeometry = false;
+  std::string viewMode = "hybrid";
   bool viewNoHud = false;
   std::string viewTauGradS = "0";
   std::string viewPacing = "time";
@@ -76,7 +77,8 @@ int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     o.vo.frameBudgetAuto = o.viewFb.isAuto();
     o.vo.frameBudgetQuantile = o.viewFb.quantile;
     o.vo.frameBudgetWindow = o.viewFb.window;
-    o.vo.startHybrid = !o.viewGeometry;
+    o.vo.startHybrid = !o.viewGeometry && o.viewMode != "geometry";
+    o.vo.autoMode = o.viewMode == "auto";
     o.vo.hud = !o.viewNoHud;
     auto s = scenes::loadScene(o.viewC.scene);
     if (!s) return fail(s.error().message);
@@ -144,6 +146,12 @@ void addViewCommand(CLI::App& app, Commands& commands) {
   viewCmd->add_option("--record", o.vo.recordPath, "Camera path file for z (record) / Z (play)");
   viewCmd->add_option("--keys", o.vo.keys, "Keys typed before the first frame, e.g. 'so'");
   viewCmd->add_flag("--geometry", o.viewGeometry, "Start in geometry mode instead of hybrid");
+  viewCmd->add_option("--mode", o.viewMode,
+                      "hybrid (warped frames; g toggles), geometry (as --geometry) or auto (every "
+                      "10 frames, whichever of the two is cheaper as measured in this session, as "
+                      "walk --mode auto; g turns it off)")
+      ->check(CLI::IsMember({"auto", "hybrid", "geometry"}))
+      ->capture_default_str();
   viewCmd->add_flag("--no-hud", o.viewNoHud, "No on-screen text");
   viewCmd->add_option("--keyframes", o.viewKeyframes,
                       "Warp keyframes baked by 'hybridwalk bake' from this scene and path instead of "

@@ -47,6 +47,10 @@ struct ViewerOptions {
   // to the last recording in memory). Empty: hybridwalk_path.json in the cwd.
   std::string recordPath;
   bool startHybrid = true;  // false: start in geometry mode
+  // `view --mode auto`: starting as startHybrid says, every 10 frames hybrid
+  // or geometry, whichever is predicted cheaper from this session's frame
+  // times (the walk's rule: session/frame_mode.h); `g` turns it off.
+  bool autoMode = false;
   bool hud = true;          // false: never draw the HUD (image comparisons)
   bool visible = true;      // window shown
   // Typed before the first frame, one character per key press, as if from

@@ -38,6 +38,7 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "session/frame_budget.h"
+#include "session/frame_mode.h"
 #include "session/in_between.h"
 #include "warp/warper.h"
 
@@ -324,6 +325,14 @@ class Viewer {
   double lastMouseX_ = 0, lastMouseY_ = 0;
 
   bool hybrid_ = true, wireframe_ = false, overlay_ = false, holeMask_ = false, help_ = false;
+  // ViewerOptions::autoMode: every kAutoFrames frames, hybrid or geometry,
+  // whichever the chooser predicts cheaper from this session's frames.
+  static constexpr int kAutoFrames = 10, kAutoProbeEvery = 4;
+  bool autoMode_ = false;
+  session::ModeChooser chooser_;
+  int framesSinceChoice_ = 0, choicesSinceProbe_ = 0;
+  void chooseMode(bool* probe);
+  void recordCost(const FrameStats& st, double workMs);
   int statsLevel_ = 1;  // 0 off, 1 fps, 2 per stage
   bool play_ = false;
   std::vector<Camera> playCams_;
@@ -512,6 +521,7 @@ Status Viewer::setUp() {
   kfAngle_ = opt_.keyframeAngleDeg * kPi / 180.0;
   moveSpeed_ = diagLen / 20.0;
   hybrid_ = opt_.startHybrid;
+  autoMode_ = opt_.autoMode;
   play_ = opt_.play;
   statsLevel_ = opt_.hud ? 1 : 0;
   poseFromCamera(home_);
@@ -752,6 +762,7 @@ void Viewer::handleChar(unsigned c, bool flying) {
       std::fflush(stdout);
       break;
     case 'g':
+      autoMode_ = false;  // the user's choice from now on
       hybrid_ = !hybrid_;
       havePrevious_ = false;
       message(hybrid_ ? "hybrid rendering" : "geometry rendering");
@@ -1275,10 +1286,44 @@ Status Viewer::renderHybrid(FrameStats& st) {
   return {};
 }
 
+// Every kAutoFrames frames, whether to draw hybrid or geometry (the walk's
+// rule, session/frame_mode.h, with segments of kAutoFrames frames). While
+// hybrid no frame measures the geometry: the first choice, and with keyframes
+// from the worker or a database every kAutoProbeEvery choices, draws one
+// frame as geometry.
+void Viewer::chooseMode(bool* probe) {
+  *probe = false;
+  if (!autoMode_ || ++framesSinceChoice_ < kAutoFrames) return;
+  framesSinceChoice_ = 0;
+  const bool next = chooser_.warpNext(hybrid_, kAutoFrames);
+  if (next != hybrid_) {
+    hybrid_ = next;
+    havePrevious_ = false;
+    message(hybrid_ ? "auto: hybrid (cheaper now)" : "auto: geometry (cheaper now)");
+  } else if (hybrid_ && (std::isnan(chooser_.geometryMs()) ||
+                         ((worker_ || opt_.keyframeDb) && ++choicesSinceProbe_ >= kAutoProbeEvery))) {
+    choicesSinceProbe_ = 0;
+    *probe = true;
+  }
+}
+
+void Viewer::recordCost(const FrameStats& st, double workMs) {
+  if (!st.hybrid) {
+    chooser_.addGeometryMs(st.geometryMs);
+  } else if (st.builtKeyframe || st.readKeyframe || st.workerKeyframe) {
+    chooser_.addKeyframeMs(workMs);
+  } else {
+    chooser_.addInBetweenMs(workMs);
+  }
+}
+
 Status Viewer::renderFrame() {
+  Stopwatch work;
+  bool probe = false;
+  chooseMode(&probe);
   FrameStats st;
-  st.hybrid = hybrid_;
-  if (hybrid_) {
+  st.hybrid = hybrid_ && !probe;
+  if (st.hybrid) {
     HW_TRY(renderHybrid(st));
   } else {
     keyframe::RenderStats rs;
@@ -1291,7 +1336,9 @@ Status Viewer::renderFrame() {
     frame_.holeFractionBefore = frame_.holeFractionAfter = 0;
     st.geometryMs = rs.drawMs + rs.readbackMs;
     st.trianglesDrawn = rs.trianglesDrawn;
+    if (probe) havePrevious_ = false;
   }
+  if (autoMode_) recordCost(st, work.ms());
   stats_ = st;
   // Stalls: frames that rendered, read or waited for a keyframe; not the
   // first, the load (as in the frame-time summary).
@@ -1364,7 +1411,10 @@ void Viewer::drawHud() {
     const double fps = frameMsSmoothed_ > 0 ? 1000.0 / frameMsSmoothed_ : 0;
     int n =
         std::snprintf(hudText_, sizeof hudText_, "%s  %.1f fps (%.1f ms)  speed %.2f units/s%s%s",
-                      hybrid_ ? "hybrid" : "geometry", fps, frameMsSmoothed_, moveSpeed_,
+                      autoMode_ ? (hybrid_ ? "auto: hybrid" : "auto: geometry")
+                      : hybrid_ ? "hybrid"
+                                : "geometry",
+                      fps, frameMsSmoothed_, moveSpeed_,
                       play_ ? "  [playing]" : "", recording_ ? "  [recording]" : "");
     if (statsLevel_ >= 2 && n > 0 && n < static_cast<int>(sizeof hudText_)) {
       const FrameStats& s = stats_;
