@@ -451,9 +451,10 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
   walk->add_flag("--no-skip-previous", o.noSkipPrev,
                  "Run the previous-frame fill even when the layers leave no holes");
   walk->add_option("--near", o.nearDistance,
-                   "Draw objects near the viewpoint directly (paper §3): meshes whose bounds come "
-                   "within this distance (scene units, e.g. metres) of a keyframe's eye are left "
-                   "out of that keyframe and rendered as geometry into the frames that use it; "
+                   "Draw objects near the viewpoint directly (paper §3): scene clusters (a few "
+                   "hundred triangles each) within this distance (scene units, e.g. metres) of a "
+                   "keyframe's eye are left out of that keyframe, and each frame draws as "
+                   "geometry the clusters within it of its own eye or of the keyframes it warps; "
                    "0 = off")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
