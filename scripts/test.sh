@@ -30,7 +30,7 @@ echo "== the installed library: examples built with find_package(hybridwalk)"
 bash scripts/test_install.sh
 [ "${HW_TEST_QUICK:-0}" = 1 ] && exit 0
 
-echo "== CPU tests and the bad-input catalogue under AddressSanitizer + UndefinedBehaviorSanitizer"
+echo "== CPU tests (and with HW_TEST_ASAN_CATALOGUE=1 the bad-input catalogue) under AddressSanitizer + UndefinedBehaviorSanitizer"
 cpu_targets=$(for f in tests/cpu/*_test.cpp; do basename "$f" .cpp; done)
 cmake --preset asan -DHW_WERROR=ON >/dev/null
 # shellcheck disable=SC2086
