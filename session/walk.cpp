@@ -34,29 +34,6 @@ namespace hw::session {
 
 using nlohmann::json;
 
-void FrameTimes::reserve(std::size_t n) {
-  frame.reserve(n);
-  keyframe.reserve(n);
-  kind.reserve(n);
-  builtKeyframe.reserve(n);
-  workMs.reserve(n);
-  intervalMs.reserve(n);
-  budgetMs.reserve(n);
-  referenceMs.reserve(n);
-}
-
-void FrameTimes::push(int i, FrameKind k, bool built, double work, double interval,
-                      double budget, double reference) {
-  frame.push_back(i);
-  keyframe.push_back(k == FrameKind::Keyframe ? 1 : 0);
-  kind.push_back(k);
-  builtKeyframe.push_back(built ? 1 : 0);
-  workMs.push_back(work);
-  intervalMs.push_back(interval);
-  budgetMs.push_back(budget);
-  referenceMs.push_back(reference);
-}
-
 namespace {
 
 std::string frameName(int i) {

@@ -118,16 +118,12 @@ struct WalkOptions {
 // Each walked frame's times, for frame_times.png (report/walk_plots.h).
 struct FrameTimes {
   std::vector<int> frame;           // frame index
-  std::vector<char> keyframe;       // 1 = the frame shows a keyframe
   std::vector<FrameKind> kind;      // how the frame was drawn
   std::vector<char> builtKeyframe;  // 1 = the frame paid for building or uploading a keyframe
   std::vector<double> workMs;       // ms.frame
   std::vector<double> intervalMs;   // ms.interval (work + pacing wait)
   std::vector<double> budgetMs;     // the frame's budget; 0 = none
   std::vector<double> referenceMs;  // geometry render at the same camera; NaN without reference
-  void reserve(std::size_t n);
-  void push(int i, FrameKind k, bool built, double work, double interval, double budget,
-            double reference);
 };
 
 struct WalkResult {

@@ -27,7 +27,6 @@ json seriesStats(const SpilledSeries<double>& v) { return seriesStats(v.values()
 
 void RecordedFrameTimes::attach(SpillFile* file) {
   frame.attach(file);
-  keyframe.attach(file);
   builtKeyframe.attach(file);
   kind.attach(file);
   workMs.attach(file);
@@ -39,7 +38,6 @@ void RecordedFrameTimes::attach(SpillFile* file) {
 void RecordedFrameTimes::push(int i, FrameKind k, bool built, double work, double interval,
                               double budget, double reference) {
   frame.push_back(i);
-  keyframe.push_back(k == FrameKind::Keyframe ? 1 : 0);
   kind.push_back(k);
   builtKeyframe.push_back(built ? 1 : 0);
   workMs.push_back(work);
@@ -51,7 +49,6 @@ void RecordedFrameTimes::push(int i, FrameKind k, bool built, double work, doubl
 FrameTimes RecordedFrameTimes::take() const {
   FrameTimes t;
   t.frame = frame.values();
-  t.keyframe = keyframe.values();
   t.builtKeyframe = builtKeyframe.values();
   t.kind = kind.values();
   t.workMs = workMs.values();

@@ -28,7 +28,7 @@ nlohmann::json seriesStats(const SpilledSeries<double>& v);
 // FrameTimes for frame_times.png once the walk is done.
 struct RecordedFrameTimes {
   SpilledSeries<int> frame;
-  SpilledSeries<char> keyframe, builtKeyframe;
+  SpilledSeries<char> builtKeyframe;
   SpilledSeries<FrameKind> kind;
   SpilledSeries<double> workMs, intervalMs, budgetMs, referenceMs;
   void attach(SpillFile* file);
