@@ -1,5 +1,6 @@
 #include "report/walk_plots.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -72,8 +73,11 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   po.width = 1000;
   po.height = 480;
   std::vector<Series> series{work, key, built};
-  if (!geometry.x.empty() && opt.mode != session::FrameMode::Hybrid) series.push_back(geometry);
   if (opt.reference) series.push_back(reference);
+  // After the reference, which it equals: drawn on top of it.
+  const bool anyGeometry =
+      std::find(t.kind.begin(), t.kind.end(), session::FrameKind::Geometry) != t.kind.end();
+  if (anyGeometry) series.push_back(geometry);
   if (budgetOn && opt.paceFrames) series.push_back(interval);
   if (anyBudget) series.push_back(budget);
   return writePlot(pngPath, series, po);
