@@ -39,17 +39,28 @@ void ModeChooser::Window::add(double ms) {
   n = std::min(n + 1, kWindow);
 }
 
-double ModeChooser::Window::median() const {
+// Linear interpolation between the order statistics around q (n - 1); the
+// median of an even count is the mean of the middle two.
+double ModeChooser::Window::quantile(double q) const {
   if (n == 0) return std::nan("");
   std::array<double, kWindow> s = v;
-  const auto mid = s.begin() + static_cast<std::ptrdiff_t>(n / 2);
-  std::nth_element(s.begin(), mid, s.begin() + static_cast<std::ptrdiff_t>(n));
-  if (n % 2 == 1) return *mid;
-  return 0.5 * (*mid + *std::max_element(s.begin(), mid));
+  const auto end = s.begin() + static_cast<std::ptrdiff_t>(n);
+  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(n - 1);
+  const auto lo = static_cast<std::ptrdiff_t>(pos);
+  std::nth_element(s.begin(), s.begin() + lo, end);
+  const double a = s[static_cast<std::size_t>(lo)];
+  if (lo + 1 >= static_cast<std::ptrdiff_t>(n)) return a;
+  const double b = *std::min_element(s.begin() + lo + 1, end);
+  return a + (pos - static_cast<double>(lo)) * (b - a);
 }
 
 double ModeChooser::inBetweenMs() const {
   if (inBetween_.n > 0) return inBetween_.median();
+  return floorMs_ >= 0 ? floorMs_ : std::nan("");
+}
+
+double ModeChooser::inBetweenTailMs() const {
+  if (inBetween_.n > 0) return inBetween_.quantile(opt_.tailQuantile);
   return floorMs_ >= 0 ? floorMs_ : std::nan("");
 }
 
@@ -62,8 +73,10 @@ double ModeChooser::predictedWarpMs(double framesPerSegment) const {
 
 bool ModeChooser::warpNext(bool warpingNow, double framesPerSegment) const {
   const double geometry = geometryMs(), warp = predictedWarpMs(framesPerSegment);
-  if (!std::isfinite(geometry) || !std::isfinite(warp)) return warpingNow;
-  return warp < (warpingNow ? opt_.leaveAbove : opt_.enterBelow) * geometry;
+  const double tail = inBetweenTailMs();
+  if (!std::isfinite(geometry) || !std::isfinite(warp) || !std::isfinite(tail)) return warpingNow;
+  return warp < (warpingNow ? opt_.leaveAbove : opt_.enterBelow) * geometry &&
+         tail < (warpingNow ? opt_.tailLeaveAbove : opt_.tailEnterBelow) * geometry;
 }
 
 }  // namespace hw::session

@@ -30,6 +30,15 @@ struct ModeChooserOptions {
   // between them keeps the choice from flipping every segment.
   double enterBelow = 0.75;
   double leaveAbove = 0.9;
+  // And the slow in-between frames: warping starts only while the
+  // tailQuantile of the recent in-between frames is below tailEnterBelow x
+  // the geometry frame's, and stops above tailLeaveAbove x. A scene where
+  // warping saves a little on average but its slower frames (a keyframe
+  // built alongside on the same cores, an upload) cost more than drawing is
+  // drawn as geometry: warping must not make frames slower.
+  double tailQuantile = 0.9;
+  double tailEnterBelow = 1.0;
+  double tailLeaveAbove = 1.1;
 };
 
 // Predicts whether warping a segment of F frames (one keyframe frame and F-1
@@ -50,6 +59,8 @@ class ModeChooser {
 
   double geometryMs() const { return geometry_.median(); }  // NaN: none yet
   double inBetweenMs() const;  // measured median, else the floor; NaN: neither
+  // The options' tailQuantile of the recent in-between frames, else the floor.
+  double inBetweenTailMs() const;
   // ms per frame of a warped segment of `framesPerSegment` (>= 1) frames: the
   // keyframe frame counts as measured, or as a geometry frame until one is.
   // NaN while the geometry or the in-between cost is unknown.
@@ -64,7 +75,8 @@ class ModeChooser {
     std::array<double, kWindow> v{};
     std::size_t n = 0, next = 0;
     void add(double ms);
-    double median() const;
+    double median() const { return quantile(0.5); }
+    double quantile(double q) const;  // q in [0, 1]; NaN when empty
   };
   ModeChooserOptions opt_;
   Window geometry_, inBetween_, keyframe_;

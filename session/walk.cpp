@@ -319,10 +319,10 @@ Status WalkLoop::calibrateModes() {
 }
 
 // The floor says warping may pay: the first keyframe (which the walk then
-// warps) is built now and warped to the second frame's camera, and that
-// frame's cost, not the floor (which leaves out the scene's mesh: 1.3x below
-// the real cost indoors, 3-6x on dense outdoor meshes), decides the first
-// segment.
+// warps) is built now and warped, as both layers (an in-between frame draws
+// two), to the camera half-way through the first segment; that frame's cost,
+// not the floor (which leaves out the scene's mesh: 1.3x below the real cost
+// indoors, 3-6x on dense outdoor meshes), decides the first segment.
 Status WalkLoop::calibrateWarp() {
   if (frames_ < 2) return {};
   const int k0 = schedule_.bracket(0).first;
@@ -330,11 +330,16 @@ Status WalkLoop::calibrateWarp() {
   const keyframe::CachedKeyframe* kf = nullptr;
   HW_TRY(getSource(k0, &kf));
   const warp::WarpSource& src = *sources_[k0];
+  InBetweenOptions both = opt_.inBetween;
+  both.skipBackground = false;
+  InBetweenStep step(both);
+  const int mid = std::clamp(k0 + segmentLength(k0) / 2, 1, frames_ - 1);
   InBetweenStats st;
   double ms = 0;
   for (int rep = 0; rep < 2; ++rep) {
     Stopwatch sw;
-    HW_TRY(step_.draw(*warper_, src, &src, cams_[1], nullptr, nullptr, frame_, st));
+    HW_TRY(step.draw(*warper_, src, &src, cams_[static_cast<std::size_t>(mid)], nullptr, nullptr,
+                     frame_, st));
     ms = sw.ms();
   }
   warpCalibrationMs_ = ms;
@@ -1052,11 +1057,15 @@ void WalkLoop::summariseModes(json& s) const {
       opt_.mode == FrameMode::Auto
           ? json{{"geometry_ms", finiteOrNull(chooser_.geometryMs())},
                  {"in_between_ms", finiteOrNull(chooser_.inBetweenMs())},
+                 {"in_between_tail_ms", finiteOrNull(chooser_.inBetweenTailMs())},
                  {"warp_floor_ms", warpFloorMs_ >= 0 ? json(warpFloorMs_) : json(nullptr)},
                  {"warp_calibration_ms",
                   warpCalibrationMs_ >= 0 ? json(warpCalibrationMs_) : json(nullptr)},
                  {"enter_below", opt_.modeChooser.enterBelow},
-                 {"leave_above", opt_.modeChooser.leaveAbove}}
+                 {"leave_above", opt_.modeChooser.leaveAbove},
+                 {"tail_quantile", opt_.modeChooser.tailQuantile},
+                 {"tail_enter_below", opt_.modeChooser.tailEnterBelow},
+                 {"tail_leave_above", opt_.modeChooser.tailLeaveAbove}}
           : json(nullptr);
   auto over = [](double a, double b) { return b > 0 ? finiteOrNull(a / b) : json(nullptr); };
   const std::vector<double> frameMs = r.frameMs.values(), referenceMs = r.referenceMs.values();

@@ -99,5 +99,54 @@ TEST(ModeChooser, MediansOfRecentSamplesIgnoreOutliersAndForgetOldOnes) {
   EXPECT_DOUBLE_EQ(even.inBetweenMs(), 5);  // even count: mean of the middle two
 }
 
+TEST(ModeChooser, SlowInBetweenFramesKeepTheGeometryEvenWhenTheMeanPays) {
+  // 15 in-between frames: 12 at 5 ms, 3 at 14 ms (a keyframe built alongside
+  // on the same cores). Mean per frame pays (well below 0.75 x 10 ms), but the
+  // 90th percentile is 14 ms, slower than drawing: geometry.
+  ModeChooser c;
+  c.addGeometryMs(10);
+  c.addKeyframeMs(5);
+  for (int i = 0; i < 12; ++i) c.addInBetweenMs(5);
+  for (int i = 0; i < 3; ++i) c.addInBetweenMs(14);
+  EXPECT_DOUBLE_EQ(c.inBetweenMs(), 5);
+  EXPECT_DOUBLE_EQ(c.inBetweenTailMs(), 14);  // 0.9 x 14 = order statistic 12.6 of 0..14
+  EXPECT_LT(c.predictedWarpMs(10), 7.5);
+  EXPECT_FALSE(c.warpNext(false, 10));
+  EXPECT_FALSE(c.warpNext(true, 10));  // above 1.1 x 10 too
+  // The same frames with a tail allowed up to 1.5x: warp.
+  ModeChooserOptions loose;
+  loose.tailEnterBelow = loose.tailLeaveAbove = 1.5;
+  ModeChooser l(loose);
+  l.addGeometryMs(10);
+  l.addKeyframeMs(5);
+  for (int i = 0; i < 12; ++i) l.addInBetweenMs(5);
+  for (int i = 0; i < 3; ++i) l.addInBetweenMs(14);
+  EXPECT_TRUE(l.warpNext(false, 10));
+}
+
+TEST(ModeChooser, TailHysteresis) {
+  ModeChooser c;  // tail: enter below 1.0x, leave above 1.1x
+  c.addGeometryMs(10);
+  c.addKeyframeMs(2);
+  for (int i = 0; i < 12; ++i) c.addInBetweenMs(2);
+  for (int i = 0; i < 3; ++i) c.addInBetweenMs(10.5);  // tail between 1.0x and 1.1x
+  EXPECT_GT(c.inBetweenTailMs(), 10);
+  EXPECT_LT(c.inBetweenTailMs(), 11);
+  EXPECT_FALSE(c.warpNext(false, 10));
+  EXPECT_TRUE(c.warpNext(true, 10));
+}
+
+TEST(ModeChooser, QuantilesInterpolateBetweenOrderStatistics) {
+  ModeChooser c;
+  for (double v : {1.0, 2.0, 3.0, 4.0, 5.0}) c.addInBetweenMs(v);
+  EXPECT_DOUBLE_EQ(c.inBetweenMs(), 3);
+  EXPECT_DOUBLE_EQ(c.inBetweenTailMs(), 4.6);  // 0.9 x 4 = 3.6: 4 + 0.6 x (5 - 4)
+  ModeChooser one;
+  one.setWarpFloorMs(3);
+  EXPECT_DOUBLE_EQ(one.inBetweenTailMs(), 3);  // the floor until one is measured
+  one.addInBetweenMs(7);
+  EXPECT_DOUBLE_EQ(one.inBetweenTailMs(), 7);
+}
+
 }  // namespace
 }  // namespace hw::session

@@ -84,7 +84,7 @@ TEST_F(WalkModeTest, AutoWarpsOnlyTheSegmentsItChoosesAndBuildsOnlyTheirKeyframe
   test::Indoor in = test::smallIndoor("indoor:20k", 64, 16, 5);
   const std::string autoOut = tempDir("auto"), hybridOut = tempDir("hybrid");
   session::WalkOptions wo = options(session::FrameMode::Auto, autoOut);
-  wo.modeChooser.enterBelow = 1e30;
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
   wo.modeChooser.leaveAbove = 0;
   auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(a.ok()) << a.error().message;
@@ -132,7 +132,7 @@ TEST_F(WalkModeTest, ReprojectedFallbackAfterAGeometryFrameCopiesInsteadOfReproj
   session::WalkOptions wo = options(session::FrameMode::Auto, "");
   wo.saveFrames = false;
   wo.inBetween.fallback = gapfill::Fallback::Reproject;
-  wo.modeChooser.enterBelow = 1e30;
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
   wo.modeChooser.leaveAbove = 0;
   auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(a.ok()) << a.error().message;
