@@ -67,6 +67,7 @@ struct WalkCli {
   std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
   std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
   std::string fallback = "copy";
+  bool renderHoles = defaults.renderHoles;
   float blendSoftness = 0.05f;
   std::string texcoords = "projective";
   std::string planarity = keyframe::planarityName(defaults.lod.planarity);
@@ -135,6 +136,7 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
     gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
   if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
   if (given("--fallback")) gapfill::parseFallback(o.fallback.c_str(), &wo.inBetween.fallback);
+  if (given("--render-holes") || given("--no-render-holes")) wo.renderHoles = o.renderHoles;
   if (given("--blend-softness")) wo.inBetween.compose.blendSoftness = o.blendSoftness;
   if (given("--subdivide"))
     wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
@@ -430,6 +432,12 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    "depth; the same pixel only where that leaves nothing)")
       ->check(CLI::IsMember({"copy", "reproject"}))
       ->capture_default_str();
+  walk->add_flag("--render-holes,!--no-render-holes", o.renderHoles,
+                 "After the fallback, draw the larger holes with the geometry renderer: the "
+                 "16x16-pixel tiles holding at least 8 hole pixels, as up to 12 tight rectangles "
+                 "(the most holes first; scissored, the scene's clusters culled to each); "
+                 "isolated cracks keep the fallback's pixels")
+      ->capture_default_str();
   walk->add_option("--texcoords", o.texcoords,
                    "Warp texture mapping: projective (exact for planar quads) or affine "
                    "(plain perspective-correct s,t; for comparison)")
@@ -615,7 +623,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
                                         "--merge-strips", "--no-merge-strips", "--tau-gradient", "--depth", "--subdivide",
                                         "--subdivide-cell", "--primitives"}},
-                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--layers", "--near", "--texcoords",
+                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--render-holes", "--no-render-holes", "--layers", "--near", "--texcoords",
                                     "--no-sky-backdrop", "--no-skip-background",
                                     "--no-skip-previous", "--cull-background"}},
                    {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",

@@ -63,6 +63,21 @@ class GeometryRenderer {
   // rect-sized (reused). Error for an empty rectangle or one outside the image.
   virtual Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
                                   RenderStats* stats = nullptr) = 0;
+  // renderColourRect for `count` rectangles at once (outs[k] for rects[k]):
+  // the same pixels, drawn in one pass (one wait for the GPU). Overlapping
+  // rectangles are each drawn whole. Error as renderColourRect, before any
+  // drawing. This default draws them one by one.
+  virtual Status renderColourRects(const Camera& camera, const PixelRect* rects, int count,
+                                   Image<Rgba8>* outs, RenderStats* stats = nullptr) {
+    RenderStats total, one;
+    for (int k = 0; k < count; ++k) {
+      HW_TRY(renderColourRect(camera, rects[k], outs[k], &one));
+      total.drawMs += one.drawMs;
+      total.readbackMs += one.readbackMs;
+    }
+    if (stats) *stats = total;
+    return {};
+  }
   // Only the clusters whose bounds come within `distance` of one of `eyes`
   // (with the keyframes' eyes among them: what renderKeyframe left out of
   // those keyframes), drawn at `camera`: colour, eye z (0 where empty) and

@@ -42,6 +42,7 @@ PresetConflict differenceFromPaper(const WalkOptions& o) {
     return {"--compose", gapfill::composeModeName(paper.inBetween.compose.mode)};
   if (o.inBetween.nearDistance != paper.inBetween.nearDistance) return {"--near", "0"};
   if (o.inBetween.fallback != paper.inBetween.fallback) return {"--fallback", "copy"};
+  if (o.renderHoles != paper.renderHoles) return {"--render-holes", "holes from the fallback"};
   if (o.warp.subdivision != paper.warp.subdivision)
     return {"--subdivide", warp::subdivisionName(paper.warp.subdivision)};
   if (o.mesh != paper.mesh) return {"--mesh", keyframe::meshMethodName(paper.mesh)};

@@ -24,6 +24,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "gapfill/age.h"
+#include "gapfill/hole_rects.h"
 #include "keyframe/analytic_scene.h"
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
@@ -89,6 +90,7 @@ class WalkLoop {
   Status keyframeFrame(int i, int k, json& fj, json& ms);
   Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
   Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
+  Status renderHoles(const Camera& cam, json& fj, json& ms, long long* renderedHoles);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
   void endFrameWork(json& ms, FrameKind kind);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
@@ -141,6 +143,10 @@ class WalkLoop {
   Image<Rgba8> refreshColour_;
   std::vector<std::uint32_t> tileScores_;
   std::vector<int> tileOrder_;
+  std::vector<std::uint32_t> holeScores_;
+  std::vector<gapfill::HoleRect> holeRects_;
+  std::vector<keyframe::PixelRect> holeRectPx_;
+  std::vector<Image<Rgba8>> holeColours_;
   double workBeforeRefreshMs_ = -1;  // this frame's work when a refresh started (-1: none)
 
   std::map<int, std::unique_ptr<warp::WarpSource>> sources_;  // keyframe → GPU copy
@@ -643,6 +649,42 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
   return {};
 }
 
+// WalkOptions::renderHoles: the hole rectangles (gapfill/hole_rects.h)
+// re-rendered by the geometry renderer. *renderedHoles: the hole pixels
+// (holesBefore) they drew.
+Status WalkLoop::renderHoles(const Camera& cam, json& fj, json& ms, long long* renderedHoles) {
+  Stopwatch sw;
+  gapfill::holeRects(frame_.holesBefore, WalkOptions::kHoleTilePx,
+                     WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, holeRects_,
+                     holeScores_);
+  const int w = frame_.colour.width();
+  const std::size_t n = holeRects_.size();
+  holeRectPx_.resize(n);
+  if (holeColours_.size() < n) holeColours_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) holeRectPx_[k] = holeRects_[k].rect;
+  if (n > 0)
+    HW_TRY(renderer_->renderColourRects(cam, holeRectPx_.data(), static_cast<int>(n),
+                                        holeColours_.data()));
+  long long drawn = 0, area = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const keyframe::PixelRect& r = holeRectPx_[k];
+    gapfill::applyRefresh(r, holeColours_[k], frame_);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x)
+        step_.clearLargeQuad(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                             static_cast<std::size_t>(x));
+    drawn += holeRects_[k].holes;
+    area += r.area();
+  }
+  *renderedHoles = drawn;
+  ms["render_holes"] = sw.ms();
+  fj["hole_rects"] = holeRects_.size();
+  fj["hole_rect_pixels"] = area;
+  fj["holes_rendered"] = drawn;
+  recorder_.series.holesRenderedPixels.push_back(static_cast<double>(drawn));
+  return {};
+}
+
 Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   const Camera& cam = cams_[static_cast<std::size_t>(i)];
   auto& s = recorder_.series;
@@ -675,12 +717,18 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
     ms["near_geometry_draw"] = st.nearDrawMs;
     s.nearMs.push_back(st.nearMs);
   }
-  const double totalMs = total.ms();
+  const double totalMs = total.ms();  // the hole render has its own ms
   ms["total"] = totalMs;
+  long long renderedHoles = 0;
+  if (!trackAge_ && opt_.renderHoles) HW_TRY(renderHoles(cam, fj, ms, &renderedHoles));
   if (trackAge_) {
     Stopwatch sa;
     gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
     ms["age"] = sa.ms();
+    if (opt_.renderHoles) {  // after the ages, which go by holesBefore: its pixels get age 0
+      HW_TRY(renderHoles(cam, fj, ms, &renderedHoles));
+      if (renderedHoles > 0) as = gapfill::ageStats(frame_.age);
+    }
     fj["stale_pixels_before_refresh"] = as.stale;
     if (budgetOn_) HW_TRY(refresh(cam, fj, ms, as));
     fj["stale_pixels"] = as.stale;
@@ -690,7 +738,7 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   } else {
     // Without ages: the pixels no keyframe layer (nor near geometry) gave,
     // the same count as the ages' (age >= 1 exactly there).
-    long long stale = 0;
+    long long stale = -renderedHoles;
     for (std::size_t p = 0; p < frame_.holesBefore.size(); ++p) stale += frame_.holesBefore.data()[p];
     fj["stale_pixels"] = stale;
     s.stalePixels.push_back(static_cast<double>(stale));
@@ -742,6 +790,31 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
     s.psnr.push_back(std::isfinite(p) ? p : 99.0);
     s.ssim.push_back(q);
+    // How much of the error the stale pixels (no keyframe of this pair, near
+    // geometry or refresh drew them) carry, and the PSNR of the others.
+    const std::size_t n = frame_.colour.size();
+    if (frame_.holesBefore.size() == n && reference_.size() == n) {
+      const Rgba8* a = frame_.colour.data();
+      const Rgba8* b = reference_.data();
+      const std::uint8_t* stale = frame_.holesBefore.data();
+      double total = 0, staleErr = 0;
+      std::size_t drawn = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double dr = a[k].r - b[k].r, dg = a[k].g - b[k].g, db = a[k].b - b[k].b;
+        const double e = dr * dr + dg * dg + db * db;
+        total += e;
+        if (stale[k]) staleErr += e;
+        else ++drawn;
+      }
+      const double pd =
+          drawn > 0 ? psnrFromMse((total - staleErr) / (3.0 * static_cast<double>(drawn)))
+                    : std::nan("");
+      const double share = total > 0 ? staleErr / total : 0.0;
+      fj["psnr_drawn"] = finiteOrNull(pd);
+      fj["stale_error_share"] = share;
+      if (!std::isnan(pd)) s.psnrDrawn.push_back(std::isfinite(pd) ? pd : 99.0);
+      s.staleErrorShare.push_back(share);
+    }
   } else {
     fj["psnr"] = nullptr;
     fj["ssim"] = nullptr;
@@ -937,6 +1010,8 @@ void WalkLoop::summariseLod(json& s) const {
   s["layers"] = ib.fused() ? "fused" : "separate";
   s["near_distance"] = ib.nearDistance;
   s["fallback"] = gapfill::fallbackName(ib.fallback);
+  s["render_holes"] = opt_.renderHoles;
+  s["holes_rendered"] = seriesStats(r.holesRenderedPixels);
   s["reprojected_pixels"] = seriesStats(r.reprojectedPixels);
   s["fallback_ms"] = seriesStats(r.fallbackMs);
   s["blend_softness"] = ib.compose.mode == gapfill::ComposeMode::Blend
@@ -1026,6 +1101,8 @@ void WalkLoop::summariseBudget(json& s) const {
   s["stale_after"] = budgetOn_ ? json(opt_.staleAfter) : json(nullptr);
   s["refresh_tile_px"] = budgetOn_ ? json(WalkOptions::kRefreshTilePx) : json(nullptr);
   s["stale_pixels"] = seriesStats(r.stalePixels);
+  s["psnr_drawn"] = seriesStats(r.psnrDrawn);
+  s["stale_error_share"] = seriesStats(r.staleErrorShare);
   s["max_age"] = seriesStats(r.maxAges);
   s["refreshed_pixels"] = seriesStats(r.refreshedPixels);
   s["refresh_ms"] = seriesStats(r.refreshMs);

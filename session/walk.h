@@ -111,6 +111,17 @@ struct WalkOptions {
   // Per-pixel age (gapfill/age.h) and the stale-pixel counts without a
   // budget (always on with one). Frames are identical.
   bool pixelAge = false;
+  // Holes drawn by the geometry renderer: after the fallback, the tiles of
+  // kHoleTilePx holding at least kHoleTileMinPixels pixels no keyframe layer
+  // (nor near geometry) covers are re-rendered, scissored and with the
+  // scene's clusters culled to the rectangle, in tight rectangles
+  // (gapfill/hole_rects.h): the kMaxHoleRects with the most holes. What is
+  // left (isolated cracks) keeps the fallback's pixels. false = the paper's
+  // (every hole from the fallback).
+  bool renderHoles = false;
+  static constexpr int kHoleTilePx = 16;
+  static constexpr int kHoleTileMinPixels = 8;
+  static constexpr int kMaxHoleRects = 12;
   static constexpr int kRefreshTilePx = 32;
   static constexpr int kMaxRefreshRects = 4;
 };

@@ -74,9 +74,10 @@ WalkRecorder::WalkRecorder(bool keepFrames, std::string scratchPath, int /*frame
         &s.nearMs, &s.stalePixels, &s.maxAges, &s.refreshedPixels, &s.refreshMs,
         &s.frameIntervalMs, &s.inBetweenIntervalMs, &s.frameMs, &s.inBetweenFrameMs, &s.stallMs,
         &s.sliceMs, &s.speedup, &s.refreshPredictedOverMeasured, &s.reprojectedPixels,
-        &s.blendedPixels, &s.fallbackMs})
+        &s.blendedPixels, &s.fallbackMs, &s.psnrDrawn, &s.staleErrorShare,
+        &s.holesRenderedPixels})
     c->attach(spill_.get());
-  static_assert(sizeof(Series) == 35 * sizeof(Column), "attach every series above");
+  static_assert(sizeof(Series) == 38 * sizeof(Column), "attach every series above");
   frameTimes.attach(spill_.get());
 }
 

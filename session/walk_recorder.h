@@ -62,7 +62,7 @@ class WalkRecorder {
         psnrLargeQuads, largeQuadPixels, nearMs, stalePixels, maxAges, refreshedPixels,
         refreshMs, frameIntervalMs, inBetweenIntervalMs, frameMs, inBetweenFrameMs, stallMs,
         sliceMs, speedup, refreshPredictedOverMeasured, reprojectedPixels, blendedPixels,
-        fallbackMs;
+        fallbackMs, psnrDrawn, staleErrorShare, holesRenderedPixels;
   } series;
   struct Counts {
     int backgroundSkips = 0, previousSkips = 0, framesRefreshed = 0, budgetOverruns = 0,

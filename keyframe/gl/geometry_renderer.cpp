@@ -224,17 +224,26 @@ class GlGeometryRenderer final : public GeometryRenderer {
 
   Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
                           RenderStats* stats) override {
-    if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > camera.width || rect.y1 > camera.height ||
-        rect.width() < 1 || rect.height() < 1)
-      return makeError("renderColourRect: rectangle [" + std::to_string(rect.x0) + ", " +
-                       std::to_string(rect.x1) + ") x [" + std::to_string(rect.y0) + ", " +
-                       std::to_string(rect.y1) + "): expected a non-empty rectangle inside the " +
-                       std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                       " image");
+    return renderColourRects(camera, &rect, 1, &out, stats);
+  }
+
+  Status renderColourRects(const Camera& camera, const PixelRect* rects, int count,
+                           Image<Rgba8>* outs, RenderStats* stats) override {
+    for (int k = 0; k < count; ++k) {
+      const PixelRect& rect = rects[k];
+      if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > camera.width || rect.y1 > camera.height ||
+          rect.width() < 1 || rect.height() < 1)
+        return makeError("renderColourRect: rectangle [" + std::to_string(rect.x0) + ", " +
+                         std::to_string(rect.x1) + ") x [" + std::to_string(rect.y0) + ", " +
+                         std::to_string(rect.y1) + "): expected a non-empty rectangle inside the " +
+                         std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                         " image");
+    }
     RenderStats local;
-    HW_TRY(draw(camera, local, nullptr, &rect));
+    if (count > 0) HW_TRY(draw(camera, local, nullptr, rects, count));
     Stopwatch sw;
-    fbo_.readColourRect(rect.x0, rect.y0, rect.width(), rect.height(), out);
+    for (int k = 0; k < count; ++k)
+      fbo_.readColourRect(rects[k].x0, rects[k].y0, rects[k].width(), rects[k].height(), outs[k]);
     local.readbackMs = sw.ms();
     if (stats) *stats = local;
     return gl::checkGlError("GeometryRenderer::renderColourRect");
@@ -306,18 +315,13 @@ class GlGeometryRenderer final : public GeometryRenderer {
     }
   };
 
-  // With `rect`: only its pixels are cleared and drawn (scissor test), and
-  // meshes are culled against its sub-frustum.
+  // With `rects`: only their pixels are cleared and drawn (scissor test), one
+  // after the other, meshes culled against each one's sub-frustum; one
+  // glFinish for all of them.
   Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr,
-              const PixelRect* rect = nullptr) {
+              const PixelRect* rects = nullptr, int rectCount = 0) {
     HW_TRY(ensureFbo(camera.width, camera.height));
     Stopwatch sw;
-    if (rect) {
-      // GL's scissor box counts rows from the bottom; glClear honours it.
-      glEnable(GL_SCISSOR_TEST);
-      glScissor(rect->x0, camera.height - rect->y1, rect->width(), rect->height());
-    }
-    fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
     // The product is formed in double and rounded to float once. Float is
     // enough for the vertex stage: scene vertices are float in
     // every source format, and the shader's float uViewProj·aPos errs by
@@ -347,18 +351,6 @@ class GlGeometryRenderer final : public GeometryRenderer {
       planes[4] = t[2] + (1.0 + kDepthSlack) * t[3];
       planes[5] = (1.0 + kDepthSlack) * t[3] - t[2];
     }
-    if (rect) {
-      // The rectangle's sub-frustum, grown by one pixel so that rounding never
-      // culls a mesh with a fragment in it: x_ndc in [l, r], y_ndc in [b, t].
-      const double w = camera.width, h = camera.height;
-      const double l = 2.0 * (rect->x0 - 1) / w - 1.0, r = 2.0 * (rect->x1 + 1) / w - 1.0;
-      const double top = 1.0 - 2.0 * (rect->y0 - 1) / h, bottom = 1.0 - 2.0 * (rect->y1 + 1) / h;
-      planes[0] = t[0] - l * t[3];
-      planes[1] = r * t[3] - t[0];
-      planes[2] = t[1] - bottom * t[3];
-      planes[3] = top * t[3] - t[1];
-    }
-
     program_.use();
     glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, glm::value_ptr(vpf));
     glUniform1i(uTex_, 0);
@@ -369,6 +361,42 @@ class GlGeometryRenderer final : public GeometryRenderer {
     bound_ = -1;
     lastItem_ = nullptr;
     sinceFlush_ = 0;
+    if (!rects) {
+      fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
+      drawItems(planes, filter, stats);
+    } else {
+      glEnable(GL_SCISSOR_TEST);
+      for (int k = 0; k < rectCount; ++k) {
+        const PixelRect& rect = rects[k];
+        // GL's scissor box counts rows from the bottom; glClear honours it.
+        glScissor(rect.x0, camera.height - rect.y1, rect.width(), rect.height());
+        fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
+        // The rectangle's sub-frustum, grown by one pixel so that rounding
+        // never culls a mesh with a fragment in it: x_ndc in [l, r], y_ndc in
+        // [b, t].
+        const double w = camera.width, h = camera.height;
+        const double l = 2.0 * (rect.x0 - 1) / w - 1.0, r = 2.0 * (rect.x1 + 1) / w - 1.0;
+        const double top = 1.0 - 2.0 * (rect.y0 - 1) / h,
+                     bottom = 1.0 - 2.0 * (rect.y1 + 1) / h;
+        std::array<glm::dvec4, 6> sub = planes;
+        sub[0] = t[0] - l * t[3];
+        sub[1] = r * t[3] - t[0];
+        sub[2] = t[1] - bottom * t[3];
+        sub[3] = top * t[3] - t[1];
+        drawItems(sub, filter, stats);
+      }
+      glDisable(GL_SCISSOR_TEST);
+    }
+    glBindVertexArray(0);
+    glFinish();
+    stats.drawMs = sw.ms();
+    return {};
+  }
+
+  // Every item inside `planes` (the frustum, or a rectangle's), clusters
+  // culled, near-filtered.
+  void drawItems(const std::array<glm::dvec4, 6>& planes, const NearFilter* filter,
+                 RenderStats& stats) {
     for (const DrawItem& d : items_) {
       Side side = Side::Inside;
       if (options_.frustumCulling) {
@@ -408,11 +436,6 @@ class GlGeometryRenderer final : public GeometryRenderer {
       }
       if (runCount > 0) drawRange(d, runFirst, runCount, runClusters, stats);
     }
-    glBindVertexArray(0);
-    if (rect) glDisable(GL_SCISSOR_TEST);
-    glFinish();
-    stats.drawMs = sw.ms();
-    return {};
   }
 
   // One draw of `indexCount` indices from `firstIndex`, part of item `d`

@@ -86,5 +86,41 @@ TEST_F(ClusterCullTest, ColourRectMatchesTheFullImage) {
   EXPECT_EQ(bad, 0);
 }
 
+TEST_F(ClusterCullTest, SeveralColourRectsInOnePassMatchTheFullImage) {
+  const scenes::Scene scene = scenes::makeIndoorScene(60000);
+  auto r = keyframe::GeometryRenderer::create(scene);
+  ASSERT_TRUE(r.ok());
+  Camera cam = scenes::defaultIndoorPath().cameraAt(40);
+  cam.width = cam.height = 160;
+  Image<Rgba8> full;
+  ASSERT_TRUE((*r)->renderColour(cam, full).ok());
+  // A strip along the top, a column on the right, a tile in the middle, and
+  // one overlapping the strip.
+  const keyframe::PixelRect rects[4] = {
+      {0, 0, 160, 16}, {144, 16, 160, 160}, {64, 80, 80, 96}, {30, 8, 50, 40}};
+  Image<Rgba8> parts[4];
+  keyframe::RenderStats st;
+  ASSERT_TRUE((*r)->renderColourRects(cam, rects, 4, parts, &st).ok());
+  EXPECT_GT(st.trianglesDrawn, 0u);
+  EXPECT_LT(st.trianglesDrawn, 4 * scene.triangleCount());
+  int bad = 0, differentFromSky = 0;
+  for (int k = 0; k < 4; ++k) {
+    const keyframe::PixelRect& rect = rects[k];
+    ASSERT_EQ(parts[k].width(), rect.width());
+    ASSERT_EQ(parts[k].height(), rect.height());
+    for (int y = rect.y0; y < rect.y1; ++y)
+      for (int x = rect.x0; x < rect.x1; ++x) {
+        const Rgba8 a = full(x, y), b = parts[k](x - rect.x0, y - rect.y0);
+        bad += a.r != b.r || a.g != b.g || a.b != b.b;
+        differentFromSky += b.r != full(0, 0).r || b.g != full(0, 0).g || b.b != full(0, 0).b;
+      }
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(differentFromSky, 100);  // not a blank image
+  // An invalid rectangle among them: an error, nothing drawn.
+  const keyframe::PixelRect badRects[2] = {{0, 0, 8, 8}, {150, 150, 170, 160}};
+  EXPECT_FALSE((*r)->renderColourRects(cam, badRects, 2, parts).ok());
+}
+
 }  // namespace
 }  // namespace hw
