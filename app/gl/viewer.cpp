@@ -336,7 +336,7 @@ class Viewer {
   double lastMouseX_ = 0, lastMouseY_ = 0;
 
   bool hybrid_ = true, wireframe_ = false, overlay_ = false, holeMask_ = false, help_ = false;
-  // ViewerOptions::autoMode: every kAutoFrames frames, hybrid or geometry,
+  // ViewerOptions::mode Auto: every kAutoFrames frames, hybrid or geometry,
   // whichever the chooser predicts cheaper from this session's frames.
   static constexpr int kAutoFrames = 10, kAutoProbeEvery = 4, kAutoMinGeometrySamples = 3;
   bool autoMode_ = false;
@@ -559,9 +559,10 @@ Status Viewer::setUp() {
   }
   // Auto mode compares measured costs, and the first render of the scene is
   // not one: llvmpipe compiles each shader variant at its first draw and the
-  // scene's textures are uploaded then (indoor 2k triangles at 320x240: 21 ms
-  // cold, 3.6 ms warm). One untimed render at the first camera, as part of
-  // loading, so the geometry frames the chooser measures are warm.
+  // scene's textures are uploaded then (indoor:2k at 320x240: a first
+  // geometry frame of 21 ms, 3.6 ms after). One untimed render at the first
+  // camera, as part of loading (about 250 ms on indoor:1M), so the geometry
+  // renders the chooser measures are warm.
   if (autoMode_) HW_TRY(renderer_->renderColour(sized(base_), frame_.colour));
   // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
   records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
