@@ -99,6 +99,50 @@ bool parseTauGradient(const std::string& s, double* out, std::string* err) {
 }
 
 
+std::string PresetCli::formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+int applyPresetCli(const CLI::App* c, const PresetCli& o, session::Preset* preset,
+                   session::WalkOptions* out) {
+  *preset = session::Preset::Default;
+  session::parsePreset(o.preset, preset);  // checked by the option's validator
+  session::WalkOptions& wo = *out;
+  wo = session::presetOptions(*preset);
+  auto given = [&](const char* name) {
+    const CLI::Option* opt = c->get_option_no_throw(name);
+    return opt != nullptr && opt->count() > 0;
+  };
+  if (given("--mode")) session::parseFrameMode(o.mode, &wo.mode);
+  if (given("--tau")) {
+    if (!parseTau(o.tau, &wo.lod.tau))
+      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tau + "'");
+    wo.lod.tauParallaxPx = 0;  // the threshold in z' units
+  }
+  if (given("--tau-px")) wo.lod.tauParallaxPx = o.tauPx;
+  if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
+  if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
+  if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
+  if (given("--tau-gradient"))
+    if (std::string err; !parseTauGradient(o.tauGradient, &wo.lod.tauGradient, &err))
+      return fail(err);
+  if (given("--async-keyframes") || given("--sync-keyframes"))
+    wo.asyncKeyframes = o.asyncKeyframes;
+  return 0;
+}
+
+int refusePaperDeparture(session::Preset preset, const session::WalkOptions& wo,
+                         const std::function<std::string(const std::string&)>& spelledAs) {
+  if (preset != session::Preset::Paper) return 0;
+  const auto c = session::differenceFromPaper(wo);
+  if (c.option.empty()) return 0;
+  const std::string option = spelledAs ? spelledAs(c.option) : c.option;
+  return failUsage(option + ": contradicts --preset paper (the paper's: " + c.paperValue +
+                   "); drop one of them");
+}
+
 void addStudyLodOptions(CLI::App* c, StudyLod& o) {
   c->add_option("--tau", o.tau, "LOD threshold in z' units ('2^11' or '2048')")->capture_default_str();
   c->add_option("--planarity", o.planarity, "stencil (paper) or region-local")

@@ -4,6 +4,7 @@
 // scene + path + GL context loader, and exit codes.
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "core/gl/context.h"
 #include "core/result.h"
 #include "session/keyframe_planner.h"
+#include "session/presets.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
@@ -64,6 +66,38 @@ struct FrameBudgetCli {
   bool isAuto() const { return arg == "auto"; }
   double ms() const { return isAuto() ? 0.0 : std::strtod(arg.c_str(), nullptr); }
 };
+
+// --preset and the options that replace what a preset sets for the frame
+// mode and the LOD (walk, bake, view: session/presets.h). Each value starts as
+// the Default preset's, so --help shows the default; it is read only when its
+// option is given (registered by the command under these names: --preset,
+// --mode, --tau, --tau-px, --criterion, --planarity, --merge-strips /
+// --no-merge-strips, --tau-gradient, --async-keyframes / --sync-keyframes).
+struct PresetCli {
+  const session::WalkOptions defaults = session::presetOptions(session::Preset::Default);
+  std::string preset = session::presetName(session::Preset::Default);
+  std::string mode = session::frameModeName(defaults.mode);
+  std::string tau;  // z' units, '2^11' or '2048'; replaces the preset's --tau-px
+  double tauPx = defaults.lod.tauParallaxPx;
+  std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
+  std::string planarity = keyframe::planarityName(defaults.lod.planarity);
+  bool mergeStrips = defaults.lod.mergeStrips;
+  std::string tauGradient = formatNumber(defaults.lod.tauGradient);
+  bool asyncKeyframes = defaults.asyncKeyframes;
+  static std::string formatNumber(double v);  // "%g"
+};
+// The options of the preset named by `o` (validated by its option), then each
+// option of `o` given on `c`'s command line. 0, or the exit code after an
+// error message (a --tau or --tau-gradient that is not a number).
+int applyPresetCli(const CLI::App* c, const PresetCli& o, session::Preset* preset,
+                   session::WalkOptions* out);
+// With --preset paper, the first setting of `wo` that departs from the paper
+// (session::differenceFromPaper) as a usage error naming the option: exit 2.
+// `spelledAs` maps an option to the one the user typed when another sets the
+// same thing (view: --mode given as --geometry). 0 when `wo` is the paper's
+// or the preset is not paper.
+int refusePaperDeparture(session::Preset preset, const session::WalkOptions& wo,
+                         const std::function<std::string(const std::string&)>& spelledAs = {});
 
 struct Loaded {
   scenes::Scene scene;

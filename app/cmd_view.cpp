@@ -21,6 +21,7 @@
 #include "bench/schedule_study.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
+#include "session/presets.h"
 #include "session/walk.h"
 #include "report/schedule_plots.h"
 #include "report/walk_plots.h"
@@ -36,6 +37,7 @@
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
+#include "scenes/catalogue.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
@@ -49,21 +51,32 @@ using nlohmann::json;
 struct ViewCli {
   CLI::App* viewCmd = nullptr;
   Common viewC;
+  // The preset's mode, LOD and keyframe worker (the defaults), and the
+  // options that replace them; vo holds the viewer's other options.
+  PresetCli presetCli;
   app::ViewerOptions vo;
-  std::string viewTau = "2^11";
   std::string viewKeyframes;
   bool viewGeometry = false;
-  std::string viewMode = "hybrid";
   bool viewNoHud = false;
-  std::string viewTauGradS = "0";
   std::string viewPacing = "time";
   FrameBudgetCli viewFb;
 };
 
 int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
-    if (!parseTau(o.viewTau, &o.vo.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.viewTau + "'");
-    if (std::string err; !parseTauGradient(o.viewTauGradS, &o.vo.tauGradient, &err)) return fail(err);
+    session::Preset preset = session::Preset::Default;
+    session::WalkOptions wo;
+    if (const int code = applyPresetCli(o.viewCmd, o.presetCli, &preset, &wo); code != 0)
+      return code;
+    if (o.viewGeometry) wo.mode = session::FrameMode::Geometry;
+    if (const int code = refusePaperDeparture(preset, wo,
+                                              [&](const std::string& option) {
+                                                return option == "--mode" && o.viewGeometry
+                                                           ? std::string("--geometry")
+                                                           : option;
+                                              });
+        code != 0)
+      return code;
+    app::applyWalkOptions(wo, &o.vo);
     if (!o.viewC.path.empty()) {
       o.vo.playPath = o.viewC.path;
     }
@@ -77,8 +90,6 @@ int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     o.vo.frameBudgetAuto = o.viewFb.isAuto();
     o.vo.frameBudgetQuantile = o.viewFb.quantile;
     o.vo.frameBudgetWindow = o.viewFb.window;
-    o.vo.startHybrid = !o.viewGeometry && o.viewMode != "geometry";
-    o.vo.autoMode = o.viewMode == "auto";
     o.vo.hud = !o.viewNoHud;
     auto s = scenes::loadScene(o.viewC.scene);
     if (!s) return fail(s.error().message);
@@ -129,42 +140,86 @@ void addViewCommand(CLI::App& app, Commands& commands) {
               "right mouse button held + W/A/S/D/Q/E (Shift x4, +/- speed), g hybrid/geometry, "
               "w wireframe/quad outlines, s statistics, o overlay, m hole mask, p PSNR, c "
               "screenshot, z/Z record/play path, space home, h help, Esc quit");
-  viewCmd->add_option("--scene", o.viewC.scene, "Scene, as for walk")->capture_default_str();
-  viewCmd->add_option("--path", o.viewC.path, "Camera path JSON to play (default: the scene's own)");
-  viewCmd->add_option("--tau", o.viewTau, "LOD threshold in z' units ('2^11' or '2048')")
-      ->capture_default_str();
-  viewCmd->add_option("--tau-gradient", o.viewTauGradS, tauGradientHelp())->capture_default_str();
+  PresetCli& pc = o.presetCli;
+  viewCmd->add_option("--scene", o.viewC.scene, scenes::sceneSpecHelp())->capture_default_str();
+  viewCmd->add_option("--path", o.viewC.path,
+                      "Camera path JSON (docs/camera-path.md) to play and to start from (default: "
+                      "the scene's own)");
+  viewCmd->add_flag("--play", o.vo.play,
+                    "Replay the camera path (--path, or the scene's default), one path frame per "
+                    "frame, looping; any move takes over");
   viewCmd->add_option("--width", o.vo.width, "Window width, pixels")->check(CLI::Range(16, 8192))
       ->capture_default_str();
   viewCmd->add_option("--height", o.vo.height, "Window height, pixels")->check(CLI::Range(16, 8192))
       ->capture_default_str();
-  viewCmd->add_flag("--play", o.vo.play, "Replay the camera path (--path, or the scene's default)");
-  viewCmd->add_option("--exit-after", o.vo.exitAfterFrames,
-                      "Quit after this many frames (scripted runs; 0 = when closed)")
-      ->check(CLI::NonNegativeNumber);
-  viewCmd->add_option("--screenshot", o.vo.screenshotPath, "Write the last frame to this PNG on exit");
-  viewCmd->add_option("--record", o.vo.recordPath, "Camera path file for z (record) / Z (play)");
-  viewCmd->add_option("--keys", o.vo.keys, "Keys typed before the first frame, e.g. 'so'");
-  viewCmd->add_flag("--geometry", o.viewGeometry, "Start in geometry mode instead of hybrid");
-  viewCmd->add_option("--mode", o.viewMode,
-                      "hybrid (warped frames; g toggles), geometry (as --geometry) or auto (every "
-                      "10 frames, whichever of the two is cheaper as measured in this session, as "
-                      "walk --mode auto; g turns it off)")
+  viewCmd->add_option("--preset", pc.preset,
+                      "Settings to start from, as for walk: default (measured best on many "
+                      "scenes: --mode auto, --tau-px " + PresetCli::formatNumber(pc.defaults.lod.tauParallaxPx) +
+                      ", region-local planarity, merged strips, keyframes built ahead on a worker "
+                      "thread) or paper (Zheng et al. 1999 exactly: every frame hybrid, --tau "
+                      "2^11, five-point stencil, no merging, keyframes rendered in the frame); "
+                      "options given replace the preset's, except that with paper an option "
+                      "departing from the paper is an error (--tau may vary)")
+      ->check(CLI::IsMember({"default", "paper"}))
+      ->capture_default_str();
+  viewCmd->add_option("--mode", pc.mode,
+                      "How frames are drawn: auto (every 10 frames hybrid or geometry, whichever "
+                      "costs less as measured in this session, geometry when about even; the walk's "
+                      "rule), hybrid (every frame warped from two keyframes, the paper's) or "
+                      "geometry (the geometry renderer, as --geometry); g switches between hybrid "
+                      "and geometry by hand (and ends auto)")
       ->check(CLI::IsMember({"auto", "hybrid", "geometry"}))
       ->capture_default_str();
+  viewCmd->add_flag("--geometry", o.viewGeometry, "Draw with the geometry renderer (--mode geometry)")
+      ->excludes("--mode");
   viewCmd->add_flag("--no-hud", o.viewNoHud, "No on-screen text");
+  viewCmd->add_option("--exit-after", o.vo.exitAfterFrames,
+                      "Quit after this many frames (scripted runs; 0 = when closed)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  viewCmd->add_option("--screenshot", o.vo.screenshotPath, "Write the last frame to this PNG on exit");
+  viewCmd->add_option("--record", o.vo.recordPath,
+                      "Camera path file for z (record) / Z (play) (default: hybridwalk_path.json)");
+  viewCmd->add_option("--keys", o.vo.keys, "Keys typed before the first frame, e.g. 'so'");
+  viewCmd->add_option("--tau", pc.tau,
+                      "LOD threshold on |Δ²z'| in z' units (2^24 scale), '2^11' or '2048' form; "
+                      "replaces --tau-px (the paper's threshold; --preset paper: 2^11)");
+  viewCmd->add_option("--tau-px", pc.tauPx,
+                      "LOD threshold as parallax error: pixels per scene unit of camera motion (the "
+                      "same meaning indoors and out); 0 = use --tau")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes("--tau")
+      ->capture_default_str();
+  viewCmd->add_option("--criterion", pc.criterion,
+                      "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
+      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
+      ->capture_default_str();
+  viewCmd->add_option("--planarity", pc.planarity,
+                      "Planarity test: stencil (paper: Δ² stencils reach across region borders) or "
+                      "region-local (second differences only inside the region)")
+      ->check(CLI::IsMember({"stencil", "region-local"}))
+      ->capture_default_str();
+  viewCmd->add_flag("--merge-strips,!--no-merge-strips", pc.mergeStrips,
+                    std::string("Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) "
+                                "into larger quads, or not (default: ") +
+                        (pc.defaults.lod.mergeStrips ? "merge" : "not") + ")");
+  viewCmd->add_option("--tau-gradient", pc.tauGradient, tauGradientHelp())->capture_default_str();
   viewCmd->add_option("--keyframes", o.viewKeyframes,
                       "Warp keyframes baked by 'hybridwalk bake' from this scene and path instead of "
                       "rendering them while near the baked path (with --play, exactly the walk's "
-                      "keyframe pairs); the window takes the database's size");
-  viewCmd->add_flag("--async-keyframes", o.vo.asyncKeyframes,
+                      "keyframe pairs); the window takes the database's size, the keyframes keep "
+                      "the database's LOD");
+  viewCmd->add_flag("--async-keyframes,!--sync-keyframes", pc.asyncKeyframes,
                     "Render and mesh keyframes ahead on a worker thread with a second OpenGL "
                     "context (a hidden window): the viewer requests the next keyframe and warps "
                     "the ones it has until it is ready instead of rendering it in the frame "
-                    "(keyframes are identical; when one arrives changes). Lost (no keyframe "
-                    "within reach) it waits for the one in flight if that is within reach, else "
-                    "renders one in the frame; baked --keyframes are read as without it. "
-                    "With s s, the statistics show keyframe stalls and waits");
+                    "(keyframes are identical; when one arrives changes), or render them in the "
+                    "frame that needs them. Lost (no keyframe within reach) it waits for the one "
+                    "in flight if that is within reach, else renders one in the frame; baked "
+                    "--keyframes are read as without it. With s s, the statistics show keyframe "
+                    "stalls and waits (default: " +
+                        std::string(pc.defaults.asyncKeyframes ? "ahead on the worker" : "in the frame") +
+                        ")");
   viewCmd->add_option("--keyframe-pacing", o.viewPacing,
                       "With --async-keyframes, as for walk: time (per frame the worker may take "
                       "budget-scale x last build ms / F of wall time, F = the frames the "
@@ -195,10 +250,22 @@ void addViewCommand(CLI::App& app, Commands& commands) {
                         "only: the viewer does not refresh stale pixels)");
   viewCmd->add_option("--frame-stats", o.vo.frameStatsPath,
                       "Write one CSV row per frame at exit: ms (time since the previous frame "
-                      "ended), keyframe ms and events (rendered in the frame = a stall, read, "
-                      "taken from the worker, requested, waited for); the exit also prints the "
-                      "frame ms median / p95 / max");
+                      "ended), how it was drawn (mode: geometry, warp, keyframe), keyframe ms and "
+                      "events (rendered in the frame = a stall, read, taken from the worker, "
+                      "requested, waited for); the exit also prints the frame ms median / p95 / "
+                      "max and the frames drawn each way");
 
+  setGroups(viewCmd, {{"Essentials", {"--help", "--scene", "--path", "--play", "--width", "--height",
+                                      "--preset", "--mode", "--geometry", "--no-hud",
+                                      "--exit-after", "--screenshot", "--record", "--keys"}},
+                      {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
+                                           "--merge-strips", "--no-merge-strips",
+                                           "--tau-gradient"}},
+                      {"Keyframes", {"--keyframes", "--async-keyframes", "--sync-keyframes",
+                                     "--keyframe-pacing", "--keyframe-budget-scale",
+                                     "--keyframe-steps-per-frame", "--keyframe-flush-triangles"}},
+                      {"Timing", {"--frame-budget-ms", "--frame-budget-quantile",
+                                  "--frame-budget-window", "--frame-stats"}}});
   commands.push_back({viewCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }
 

@@ -25,18 +25,33 @@
 #include "core/camera.h"
 #include "keyframe/keyframe.h"
 #include "keyframe/keyframe_db.h"
+#include "keyframe/lod_builder.h"
 #include "keyframe/quad_mesh.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
+#include "session/frame_mode.h"
+#include "session/walk.h"
 
 namespace hw::app {
 
-// Zero/default values work as given.
+// Zero/default values work as given. As with session::WalkOptions, the
+// struct's own values are the paper's pipeline (every frame hybrid, τ 2^11
+// z' units, keyframes rendered in the frame); `view` starts from a preset
+// instead (applyWalkOptions, session/presets.h).
 struct ViewerOptions {
   std::string sceneLabel;         // window title and HUD
   int width = 800, height = 600;  // window size, pixels (≥ 16)
-  double tau = 2048;              // LOD threshold τ, z' units (the paper's 2^11)
-  double tauGradient = 0;         // keyframe::LodOptions::tauGradient (0 = fixed τ)
+  // How frames are drawn: Hybrid (warped from two keyframes; `g` toggles to
+  // the geometry renderer and back), Geometry (the geometry renderer), or
+  // Auto: every 10 frames hybrid or geometry, whichever is predicted cheaper
+  // from this session's frame times (the walk's rule, session/frame_mode.h);
+  // it starts hybrid, the first choice and (with keyframes from the worker or
+  // a database) one in four while hybrid draw a frame as geometry to measure
+  // it, and `g` turns it off.
+  session::FrameMode mode = session::FrameMode::Hybrid;
+  // The keyframes' quad meshes (threshold, planarity test, merging). Baked
+  // keyframes keep the database's own.
+  keyframe::LodOptions lod;
   std::string playPath;           // camera path JSON file; empty: the default path
   bool play = false;              // start by playing the path (loops; any move stops it)
   int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed
@@ -46,11 +61,6 @@ struct ViewerOptions {
   // `z` saves the recorded path here and `Z` plays it from here (falling back
   // to the last recording in memory). Empty: hybridwalk_path.json in the cwd.
   std::string recordPath;
-  bool startHybrid = true;  // false: start in geometry mode
-  // `view --mode auto`: starting as startHybrid says, every 10 frames hybrid
-  // or geometry, whichever is predicted cheaper from this session's frame
-  // times (the walk's rule: session/frame_mode.h); `g` turns it off.
-  bool autoMode = false;
   bool hud = true;          // false: never draw the HUD (image comparisons)
   bool visible = true;      // window shown
   // Typed before the first frame, one character per key press, as if from
@@ -110,9 +120,9 @@ struct ViewerOptions {
   bool frameBudgetAuto = false;
   double frameBudgetQuantile = 0.9;
   int frameBudgetWindow = 30;
-  // Written at exit if set: one CSV row per frame (frame ms, keyframe
-  // events: rendered in the frame, read, taken from the worker, requested,
-  // waited for), for median / p95 of the frame time.
+  // Written at exit if set: one CSV row per frame (frame ms, how it was
+  // drawn, keyframe events: rendered in the frame, read, taken from the
+  // worker, requested, waited for), for median / p95 of the frame time.
   std::string frameStatsPath;
   // Test hook: called with the window's context current for every keyframe
   // put into a slot except baked ones (fromWorker: built by the worker).
@@ -123,6 +133,13 @@ struct ViewerOptions {
   // is the window's framebuffer size).
   std::function<void(const Camera& lastCamera)> onExit;
 };
+
+// Sets the viewer's share of a walk's options (a preset's, session/presets.h)
+// in `out`, leaving its other fields: the frame mode, the LOD options and
+// whether keyframes are built ahead on a worker. The rest of a walk's options
+// (composition, near geometry, subdivision, hole fill) the viewer does as the
+// paper does, as both presets do.
+void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out);
 
 // Runs the viewer until Esc / the window is closed / exitAfterFrames. The
 // starting and home camera is the first of the play path (if given) or of

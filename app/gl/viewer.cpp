@@ -199,6 +199,14 @@ struct FrameStats {
   double warpAMs = 0, warpBMs = 0, composeMs = 0;
   int quadsA = 0, quadsB = 0, layers = 0;
   double holesBefore = 0, holesAfter = 0;
+  // Drawn by the geometry renderer; else hybrid: a keyframe frame when one
+  // was rendered, read or taken from the worker in it (its cost is the
+  // keyframe's), otherwise warped.
+  session::FrameKind kind() const {
+    if (!hybrid) return session::FrameKind::Geometry;
+    return builtKeyframe || readKeyframe || workerKeyframe ? session::FrameKind::Keyframe
+                                                           : session::FrameKind::Warp;
+  }
 };
 
 // One row of ViewerOptions::frameStatsPath.
@@ -212,6 +220,7 @@ struct FrameRecord {
   bool built = false, read = false, worker = false, requested = false, waited = false,
        stalled = false;
   int layers = 0;
+  session::FrameKind kind = session::FrameKind::Warp;
 };
 
 class Viewer {
@@ -254,6 +263,7 @@ class Viewer {
   Status takeFromWorker(FrameStats& st, bool wait);
   Status writeFrameStats() const;
   void printFrameSummary() const;
+  void printModeSummary() const;
   Status readKeyframe(Slot& slot, int frame);
   Status finishSlot(Slot& slot);
   Status liveKeyframes(FrameStats& st, int& a, int& b);
@@ -270,6 +280,7 @@ class Viewer {
   void togglePlayRecorded();
   void toggleFullScreen();
   void message(const std::string& text);
+  std::string thresholdText() const;  // "tau-px 0.125" or "tau 2048"
 
   const scenes::Scene& scene_;
   const scenes::CameraPath& defaultPath_;
@@ -325,12 +336,13 @@ class Viewer {
   double lastMouseX_ = 0, lastMouseY_ = 0;
 
   bool hybrid_ = true, wireframe_ = false, overlay_ = false, holeMask_ = false, help_ = false;
-  // ViewerOptions::autoMode: every kAutoFrames frames, hybrid or geometry,
+  // ViewerOptions::mode Auto: every kAutoFrames frames, hybrid or geometry,
   // whichever the chooser predicts cheaper from this session's frames.
-  static constexpr int kAutoFrames = 10, kAutoProbeEvery = 4;
+  static constexpr int kAutoFrames = 10, kAutoProbeEvery = 4, kAutoMinGeometrySamples = 3;
   bool autoMode_ = false;
   session::ModeChooser chooser_;
-  int framesSinceChoice_ = 0, choicesSinceProbe_ = 0;
+  int framesSinceChoice_ = 0, choicesSinceProbe_ = 0, geometrySamples_ = 0;
+  long autoSwitches_ = 0, firstGeometryChoice_ = -1;  // frame of the first switch to geometry
   void chooseMode(bool* probe);
   void recordCost(const FrameStats& st, double workMs);
   int statsLevel_ = 1;  // 0 off, 1 fps, 2 per stage
@@ -387,11 +399,14 @@ Status Viewer::setUp() {
   if (opt_.width < 16 || opt_.height < 16 || opt_.width > 16384 || opt_.height > 16384)
     return makeError("window size must be in [16, 16384] pixels, got " +
                      std::to_string(opt_.width) + "x" + std::to_string(opt_.height));
-  if (!(opt_.tau >= 0) || !std::isfinite(opt_.tau))
-    return makeError("tau must be finite and >= 0, got " + std::to_string(opt_.tau));
-  if (!(opt_.tauGradient >= 0) || !std::isfinite(opt_.tauGradient))
+  if (!(opt_.lod.tau >= 0) || !std::isfinite(opt_.lod.tau))
+    return makeError("tau must be finite and >= 0, got " + std::to_string(opt_.lod.tau));
+  if (!(opt_.lod.tauParallaxPx >= 0) || !std::isfinite(opt_.lod.tauParallaxPx))
+    return makeError("tau-px must be finite and >= 0, got " +
+                     std::to_string(opt_.lod.tauParallaxPx));
+  if (!(opt_.lod.tauGradient >= 0) || !std::isfinite(opt_.lod.tauGradient))
     return makeError("tau gradient must be finite and >= 0, got " +
-                     std::to_string(opt_.tauGradient));
+                     std::to_string(opt_.lod.tauGradient));
   if (!(opt_.keyframeAngleDeg > 0 && opt_.keyframeAngleDeg < 180) ||
       !(opt_.keyframeDistance >= 0) || !std::isfinite(opt_.keyframeDistance))
     return makeError("keyframe thresholds: distance must be >= 0 and angle in (0, 180) degrees");
@@ -428,8 +443,7 @@ Status Viewer::setUp() {
   auto w = warp::Warper::create(wopt);
   if (!w) return w.error();
   warper_ = std::move(*w);
-  lodOptions_.tau = opt_.tau;
-  lodOptions_.tauGradient = opt_.tauGradient;
+  lodOptions_ = opt_.lod;
 
   auto dp = gl::Program::build("viewer display", kDisplayVs, kDisplayFs);
   if (!dp) return dp.error();
@@ -520,8 +534,8 @@ Status Viewer::setUp() {
   kfDistance_ = spacing > 0 ? spacing : diagLen / 30.0;
   kfAngle_ = opt_.keyframeAngleDeg * kPi / 180.0;
   moveSpeed_ = diagLen / 20.0;
-  hybrid_ = opt_.startHybrid;
-  autoMode_ = opt_.autoMode;
+  hybrid_ = opt_.mode != session::FrameMode::Geometry;
+  autoMode_ = opt_.mode == session::FrameMode::Auto;
   play_ = opt_.play;
   statsLevel_ = opt_.hud ? 1 : 0;
   poseFromCamera(home_);
@@ -543,6 +557,13 @@ Status Viewer::setUp() {
     workerEarly_ = !opt_.asyncLockstep;
     HW_TRY(startWorker(pacingFrames_));
   }
+  // Auto mode compares measured costs, and the first render of the scene is
+  // not one: llvmpipe compiles each shader variant at its first draw and the
+  // scene's textures are uploaded then (indoor:2k at 320x240: a first
+  // geometry frame of 21 ms, 3.6 ms after). One untimed render at the first
+  // camera, as part of loading (about 250 ms on indoor:1M), so the geometry
+  // renders the chooser measures are warm.
+  if (autoMode_) HW_TRY(renderer_->renderColour(sized(base_), frame_.colour));
   // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
   records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
@@ -550,10 +571,12 @@ Status Viewer::setUp() {
   playFrame_ = play_ ? 0 : -1;
   prevCam_ = cam_;
   std::printf(
-      "hybridwalk view: %s, %zu triangles, %dx%d, tau %g; keyframe every %.3g units or "
-      "%.3g deg. Press h for help.\n",
+      "hybridwalk view: %s, %zu triangles, %dx%d, mode %s, %s (%s planarity%s); keyframe every "
+      "%.3g units or %.3g deg. Press h for help.\n",
       opt_.sceneLabel.empty() ? "scene" : opt_.sceneLabel.c_str(), scene_.triangleCount(), width_,
-      height_, opt_.tau, kfDistance_, opt_.keyframeAngleDeg);
+      height_, session::frameModeName(opt_.mode), thresholdText().c_str(),
+      keyframe::planarityName(lodOptions_.planarity),
+      lodOptions_.mergeStrips ? ", merged strips" : "", kfDistance_, opt_.keyframeAngleDeg);
   if (opt_.keyframeDb)
     std::printf("hybridwalk view: %zu baked keyframes from %s (used near the baked path)\n",
                 dbFrames_.size(), opt_.keyframeDb->dir().c_str());
@@ -718,6 +741,15 @@ void Viewer::poseFromCamera(const Camera& c) {
 Camera Viewer::cameraFromPose() const {
   // Scenes are Y-up (scenes/scene.h); pitch is clamped away from the pole.
   return flyCamera(pose_, sized(base_));
+}
+
+std::string Viewer::thresholdText() const {
+  char buf[64];
+  if (lodOptions_.tauParallaxPx > 0)
+    std::snprintf(buf, sizeof buf, "tau-px %g", lodOptions_.tauParallaxPx);
+  else
+    std::snprintf(buf, sizeof buf, "tau %g", lodOptions_.tau);
+  return buf;
 }
 
 void Viewer::message(const std::string& text) {
@@ -1288,9 +1320,10 @@ Status Viewer::renderHybrid(FrameStats& st) {
 
 // Every kAutoFrames frames, whether to draw hybrid or geometry (the walk's
 // rule, session/frame_mode.h, with segments of kAutoFrames frames). While
-// hybrid no frame measures the geometry: the first choice, and with keyframes
-// from the worker or a database every kAutoProbeEvery choices, draws one
-// frame as geometry.
+// hybrid only keyframes rendered in the frame measure the geometry: until
+// kAutoMinGeometrySamples geometry renders are known (so that one slow render
+// does not decide), and with keyframes from the worker or a database every
+// kAutoProbeEvery choices, a choice draws one frame as geometry.
 void Viewer::chooseMode(bool* probe) {
   *probe = false;
   if (!autoMode_ || ++framesSinceChoice_ < kAutoFrames) return;
@@ -1299,21 +1332,32 @@ void Viewer::chooseMode(bool* probe) {
   if (next != hybrid_) {
     hybrid_ = next;
     havePrevious_ = false;
-    message(hybrid_ ? "auto: hybrid (cheaper now)" : "auto: geometry (cheaper now)");
-  } else if (hybrid_ && (std::isnan(chooser_.geometryMs()) ||
-                         ((worker_ || opt_.keyframeDb) && ++choicesSinceProbe_ >= kAutoProbeEvery))) {
+    ++autoSwitches_;
+    if (!hybrid_ && firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
+    message(std::string(hybrid_ ? "auto: hybrid" : "auto: geometry") +
+            " (cheaper now; from frame " + std::to_string(frameIndex_) + ")");
+  } else if (hybrid_ &&
+             (geometrySamples_ < kAutoMinGeometrySamples ||
+              ((worker_ || opt_.keyframeDb) && ++choicesSinceProbe_ >= kAutoProbeEvery))) {
     choicesSinceProbe_ = 0;
     *probe = true;
   }
 }
 
 void Viewer::recordCost(const FrameStats& st, double workMs) {
-  if (!st.hybrid) {
-    chooser_.addGeometryMs(st.geometryMs);
-  } else if (st.builtKeyframe || st.readKeyframe || st.workerKeyframe) {
-    chooser_.addKeyframeMs(workMs);
-  } else {
-    chooser_.addInBetweenMs(workMs);
+  // A keyframe rendered in the frame is a geometry render too (colour and
+  // depth; the walk counts it so).
+  if (st.builtKeyframe) {
+    chooser_.addGeometryMs(lastKeyframe_.renderMs);
+    ++geometrySamples_;
+  }
+  switch (st.kind()) {
+    case session::FrameKind::Geometry:
+      chooser_.addGeometryMs(st.geometryMs);
+      ++geometrySamples_;
+      break;
+    case session::FrameKind::Keyframe: chooser_.addKeyframeMs(workMs); break;
+    case session::FrameKind::Warp: chooser_.addInBetweenMs(workMs); break;
   }
 }
 
@@ -1338,7 +1382,8 @@ Status Viewer::renderFrame() {
     st.trianglesDrawn = rs.trianglesDrawn;
     if (probe) havePrevious_ = false;
   }
-  if (autoMode_) recordCost(st, work.ms());
+  // The first frame is the load (its keyframe the first), not a cost to predict from.
+  if (autoMode_ && frameIndex_ > 0) recordCost(st, work.ms());
   stats_ = st;
   // Stalls: frames that rendered, read or waited for a keyframe; not the
   // first, the load (as in the frame-time summary).
@@ -1426,7 +1471,7 @@ void Viewer::drawHud() {
             "\nwarp fg %.1f ms  bg + readback %.1f ms%s  compose %.1f ms%s\n"
             "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
             "last keyframe: %s %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built, %ld read%s\n"
-            "tau %g  keyframe every %.2f units / %.0f deg\n%s",
+            "%s  keyframe every %.2f units / %.0f deg\n%s",
             s.warpAMs, s.warpBMs, s.backgroundSkipped ? " (bg skipped)" : "", s.composeMs,
             s.direct ? "  (keyframe shown as is)" : "", s.quadsA,
             s.quadsB, s.layers, s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
@@ -1436,7 +1481,7 @@ void Viewer::drawHud() {
             lastKeyframe_.renderMs,
             lastKeyframe_.lodMs, lastKeyframe_.uploadMs, lastKeyframe_.quads, keyframesBuilt_,
             keyframesRead_, s.builtKeyframe || s.readKeyframe ? " (one this frame)" : "",
-            opt_.tau, kfDistance_, kfAngle_ * 180 / kPi, keyframeLine_);
+            thresholdText().c_str(), kfDistance_, kfAngle_ * 180 / kPi, keyframeLine_);
       } else {
         std::snprintf(p, room, "\ngeometry %.1f ms  %zu of %zu triangles drawn", s.geometryMs,
                       s.trianglesDrawn, scene_.triangleCount());
@@ -1626,6 +1671,7 @@ Status Viewer::run() {
     rec.waited = stats_.waitedForKeyframe;
     rec.stalled = stats_.stalledOnWorker;
     rec.layers = stats_.hybrid ? stats_.layers : -1;
+    rec.kind = stats_.kind();
     rec.budgetMs = budgetMs;
     ++frameIndex_;
     const bool last = opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames;
@@ -1680,6 +1726,7 @@ Status Viewer::run() {
               : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
               : stats_.layers == 2 ? "hybrid, two keyframes warped"
                                    : "hybrid, one keyframe warped");
+  printModeSummary();
   printFrameSummary();
   if (!opt_.frameStatsPath.empty()) {
     HW_TRY(writeFrameStats());
@@ -1687,6 +1734,25 @@ Status Viewer::run() {
   }
   std::fflush(stdout);
   return {};
+}
+
+// How the frames were drawn, and with --mode auto when it chose geometry.
+void Viewer::printModeSummary() const {
+  std::array<long, 3> count{};
+  for (const FrameRecord& r : records_) ++count[static_cast<std::size_t>(r.kind)];
+  using K = session::FrameKind;
+  std::printf("hybridwalk view: mode %s: %ld frames drawn as geometry, %ld warped, %ld with a "
+              "keyframe built, read or taken",
+              session::frameModeName(opt_.mode), count[static_cast<std::size_t>(K::Geometry)],
+              count[static_cast<std::size_t>(K::Warp)], count[static_cast<std::size_t>(K::Keyframe)]);
+  if (opt_.mode == session::FrameMode::Auto) {
+    if (firstGeometryChoice_ >= 0)
+      std::printf("; auto chose geometry from frame %ld (%ld switches)", firstGeometryChoice_,
+                  autoSwitches_);
+    else
+      std::printf("; auto never chose geometry");
+  }
+  std::printf("\n");
 }
 
 // Frame time over the frames after the first (which renders or waits for the
@@ -1723,19 +1789,25 @@ void Viewer::printFrameSummary() const {
 Status Viewer::writeFrameStats() const {
   std::string csv =
       "frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,"
-      "worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms\n";
-  char line[200];
+      "worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms,mode\n";
+  char line[220];
   for (const FrameRecord& r : records_) {
-    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f\n", r.frame,
+    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%s\n", r.frame,
                   r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
                   r.worker ? 1 : 0, r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0,
-                  r.layers, r.workMs, r.budgetMs);
+                  r.layers, r.workMs, r.budgetMs, session::frameKindName(r.kind));
     csv += line;
   }
   return writeFileAtomic(opt_.frameStatsPath, csv);
 }
 
 }  // namespace
+
+void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
+  out->mode = walk.mode;
+  out->lod = walk.lod;
+  out->asyncKeyframes = walk.asyncKeyframes;
+}
 
 int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
               const ViewerOptions& options) {

@@ -19,7 +19,9 @@ rc=$?; check "bake exits 0 ($(tail -1 bake.out))" test $rc -eq 0
 rc=$?; check "walk --keyframes exits 0 ($(tail -1 walk.out))" test $rc -eq 0
 
 # 11 frames played: frames 0..10, the last between keyframes 8 and 12.
-"$hw" view "${common[@]}" --keyframes db --play --exit-after 11 --no-hud --screenshot shot.png \
+# Pinned to the paper's settings (every frame hybrid, keyframes in the frame):
+# this tests the warped frames, not the auto choice.
+"$hw" view "${common[@]}" --preset paper --keyframes db --play --exit-after 11 --no-hud --screenshot shot.png \
   >view.out 2>&1
 rc=$?; check "view --keyframes exits 0 ($(tail -1 view.out))" test $rc -eq 0
 check "window took the database's size" grep -q "160x120" view.out
@@ -34,11 +36,11 @@ check "viewer frame is the walk's, pixel for pixel" grep -q "differing_pixels 0 
 check "  and it moved on from frame 0 ($(cat cmp0.out))" grep -Eq "differing_pixels [1-9]" cmp0.out
 # Not playing: the viewer stands at the path's first camera, keyframe 0's,
 # and takes the nearest baked keyframe (shown as is) instead of rendering one.
-"$hw" view "${common[@]}" --keyframes db --exit-after 3 --no-hud >still.out 2>&1
+"$hw" view "${common[@]}" --preset paper --keyframes db --exit-after 3 --no-hud >still.out 2>&1
 check "standing at keyframe 0: nothing built, keyframe 0 (and its neighbour) read" \
   grep -Eq "3 frames, 0 keyframes built, [12] read from a database; last frame: hybrid, a keyframe at this camera" still.out
 # The same viewer without the database renders its own keyframes elsewhere.
-"$hw" view "${common[@]}" --play --exit-after 11 --no-hud --width 160 --height 120 >live.out 2>&1
+"$hw" view "${common[@]}" --preset paper --play --exit-after 11 --no-hud --width 160 --height 120 >live.out 2>&1
 check "without --keyframes keyframes are built" grep -Eq "11 frames, [1-9][0-9]* keyframes built, 0 read" live.out
 
 # Refused: another size, another path.

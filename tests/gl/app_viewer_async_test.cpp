@@ -74,6 +74,7 @@ Session play(const std::string& tag, bool async, bool lockstep, int frames, bool
   opt.exitAfterFrames = frames;
   opt.screenshotPath = shot;
   opt.hud = false;
+  opt.mode = session::FrameMode::Hybrid;  // every frame warped: keyframes all along the path
   opt.asyncKeyframes = async;
   opt.asyncLockstep = lockstep;
   std::unique_ptr<keyframe::GeometryRenderer> renderer;
@@ -92,8 +93,7 @@ Session play(const std::string& tag, bool async, bool lockstep, int frames, bool
       }
       renderer = std::move(*r);
     }
-    keyframe::LodOptions lo;  // the viewer's: tau 2^11, no gradient
-    lo.tau = 2048;
+    const keyframe::LodOptions lo = opt.lod;  // the viewer's
     const Status s = renderer->renderKeyframe(kf.camera, ref);
     const Status m = s ? lod.build(ref, lo, &refMesh) : s;
     if (!m) {

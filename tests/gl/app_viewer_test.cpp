@@ -17,6 +17,7 @@
 #include "keyframe/geometry_renderer.h"
 #include "scenes/camera_path.h"
 #include "scenes/procedural.h"
+#include "session/presets.h"
 
 namespace hw {
 namespace {
@@ -61,7 +62,8 @@ Session runScripted(bool hybrid, const std::string& tag, bool hud = false,
   opt.play = true;
   opt.exitAfterFrames = 15;
   opt.screenshotPath = shot;
-  opt.startHybrid = hybrid;
+  // Pinned: these sessions test each way of drawing, not the auto choice.
+  opt.mode = hybrid ? session::FrameMode::Hybrid : session::FrameMode::Geometry;
   opt.hud = hud;
   opt.keys = keys;
   opt.recordPath = recordPath;
@@ -194,6 +196,47 @@ TEST(Viewer, RecordsThePathItWalks) {
   const scenes::CameraPath played = shortIndoorPath();
   EXPECT_NEAR(glm::length(path->keys.front().eye - played.cameraAt(0).eye), 0.0, 1e-6);
   EXPECT_NEAR(glm::length(path->keys.back().eye - played.cameraAt(14).eye), 0.0, 1e-6);
+}
+
+// `view` takes its mode, LOD and keyframe worker from a preset
+// (applyWalkOptions); whatever else a preset sets, the viewer does as the
+// paper does, so no preset may set it otherwise.
+TEST(ViewerPresets, PresetsDepartFromThePaperOnlyInWhatTheViewerCarries) {
+  const session::WalkOptions paper = session::presetOptions(session::Preset::Paper);
+  for (session::Preset p : {session::Preset::Default, session::Preset::Paper}) {
+    session::WalkOptions rest = session::presetOptions(p);
+    rest.mode = paper.mode;
+    rest.lod = paper.lod;
+    rest.asyncKeyframes = paper.asyncKeyframes;
+    const session::PresetConflict c = session::differenceFromPaper(rest);
+    EXPECT_TRUE(c.option.empty()) << session::presetName(p) << " sets " << c.option
+                                  << ", which the viewer does not carry";
+  }
+}
+
+TEST(ViewerPresets, TheViewerTakesThePresetsModeLodAndWorker) {
+  for (session::Preset p : {session::Preset::Default, session::Preset::Paper}) {
+    const session::WalkOptions w = session::presetOptions(p);
+    app::ViewerOptions v;
+    v.width = 123;  // not the preset's business: kept
+    app::applyWalkOptions(w, &v);
+    EXPECT_EQ(v.width, 123);
+    EXPECT_EQ(v.mode, w.mode) << session::presetName(p);
+    EXPECT_EQ(v.asyncKeyframes, w.asyncKeyframes) << session::presetName(p);
+    EXPECT_EQ(v.lod.tau, w.lod.tau);
+    EXPECT_EQ(v.lod.tauParallaxPx, w.lod.tauParallaxPx);
+    EXPECT_EQ(v.lod.planarity, w.lod.planarity);
+    EXPECT_EQ(v.lod.mergeStrips, w.lod.mergeStrips);
+    EXPECT_EQ(v.lod.criterion, w.lod.criterion);
+    EXPECT_EQ(v.lod.tauGradient, w.lod.tauGradient);
+  }
+  // ViewerOptions{} is the paper's pipeline, as WalkOptions{} is.
+  app::ViewerOptions plain, paper;
+  app::applyWalkOptions(session::presetOptions(session::Preset::Paper), &paper);
+  EXPECT_EQ(plain.mode, paper.mode);
+  EXPECT_EQ(plain.asyncKeyframes, paper.asyncKeyframes);
+  EXPECT_EQ(plain.lod.tau, paper.lod.tau);
+  EXPECT_EQ(plain.lod.tauParallaxPx, paper.lod.tauParallaxPx);
 }
 
 TEST(Viewer, BadPlayPathIsAnErrorExit) {
