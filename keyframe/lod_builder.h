@@ -73,7 +73,7 @@ struct LodOptions {
   // passes over the pixels. Merged leaves are not planar by the Δ² test, so
   // Quad::maxDelta of a merged quad may exceed τ.
   bool mergeStrips = false;
-  // Merge tolerance in z' units; 0 = automatic: max(τ/4, kMergeNoiseFloor),
+  // Merge (and splitMisfit) tolerance in z' units; 0 = automatic: max(τ/4, kMergeNoiseFloor),
   // τ in z' units (after tauParallaxPx). τ/4 keeps merged quads as flat as
   // the Δ² test keeps leaves (a leaf with |Δ²| ≤ τ bends by up to τ/8 per
   // pixel² from its tangent plane); the floor is above the depth noise of a
@@ -91,6 +91,21 @@ struct LodOptions {
   // 2-line step guard; the merge tolerance itself stays absolute. 0 = off:
   // results bit-identical to the fixed τ. Must be finite and >= 0.
   double tauGradient = 0.0;
+  // Split a leaf whose plane does not fit its own pixels, whatever τ says:
+  // the Δ² test is local (each pixel may bend by up to τ), so a large leaf
+  // on a gently curved surface (a pillar beside the viewer, a dome, a rolling
+  // road) can pass it while its least-squares plane departs from its pixels
+  // by about τ·L²/8 for a side of L pixels, and then warps to the wrong place
+  // (docs/quad-validation.md). On: a region that passes the planarity test
+  // but whose pixels depart from its least-squares z' plane by more than the
+  // fit tolerance (mergeToleranceZPrime, or its automatic value
+  // max(τ/4, kMergeNoiseFloor)), or whose plane leaves the corner depth
+  // bounds at its outer pixel edges (would be clamped: a plane through two
+  // pixels across a depth step, which no stencil saw at an image border or
+  // beside an empty pixel), is cut in the middle, in the direction the
+  // subdivision would cut next, and its parts are tested again; the merge
+  // (mergeStrips) refuses such unions too. Off: the paper's leaves.
+  bool splitMisfit = false;
 };
 
 // Robust local depth gradient, z' units per pixel, into `out` (resized only
@@ -186,6 +201,8 @@ class LodBuilder {
   const std::vector<PixelRect>& leaves() const { return leaves_; }
   // Leaves before mergeStrips (equal to leaves().size() without it).
   int leavesBeforeMerge() const { return leavesBeforeMerge_; }
+  // Regions that passed the planarity test but were cut by splitMisfit.
+  int misfitSplits() const { return misfitSplits_; }
   double mergeToleranceZPrime() const { return mergeTol_; }
   double tauZPrime() const { return tauZPrime_; }
 
@@ -208,6 +225,12 @@ class LodBuilder {
   template <bool kLocal>
   void subdivideRegions();
   void mergeLeaves();
+  // splitMisfit: some pixel of r departs from r's least-squares z' plane by
+  // more than mergeTol_.
+  bool misfit(const PixelRect& r) const;
+  // The plane z' = a + b·(x − cx) + c·(y − cy) ((cx, cy) r's centre in pixel
+  // indices) leaves recoverCorners' depth bounds at one of r's outer corners.
+  bool cornersClamp(const PixelRect& r, double a, double b, double c) const;
 
   ImageView<const double> zPrime_;
   Camera camera_;
@@ -215,6 +238,7 @@ class LodBuilder {
   double tauZPrime_ = 0;
   double mergeTol_ = 0;
   int leavesBeforeMerge_ = 0;
+  int misfitSplits_ = 0;
   double deltaMs_ = 0;
   long long emptyPixels_ = 0;
   Image<std::uint8_t> valid_;
