@@ -214,6 +214,10 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
     return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
                      std::to_string(options.mergeToleranceZPrime));
   }
+  if (!(options.misfitToleranceZPrime >= 0.0 && std::isfinite(options.misfitToleranceZPrime))) {
+    return makeError("LOD builder: misfitToleranceZPrime must be finite and >= 0, got " +
+                     std::to_string(options.misfitToleranceZPrime));
+  }
   if (!(options.tauGradient >= 0.0 && std::isfinite(options.tauGradient))) {
     return makeError("LOD builder: tauGradient must be finite and >= 0, got " +
                      std::to_string(options.tauGradient));
@@ -300,6 +304,9 @@ double LodBuilder::subdivide() {
   satStride_ = w + 1;
   mergeTol_ = options_.mergeToleranceZPrime > 0.0 ? options_.mergeToleranceZPrime
                                                   : std::max(0.25 * tauZPrime_, kMergeNoiseFloor);
+  misfitTol_ = options_.misfitToleranceZPrime > 0.0
+                   ? options_.misfitToleranceZPrime
+                   : std::max(tauZPrime_ / kMisfitTauDivisor, kMergeNoiseFloor);
   if (options_.planarity == Planarity::RegionLocal) {
     buildLocalTables();
     subdivideRegions<true>();
@@ -572,7 +579,7 @@ bool LodBuilder::misfit(const PixelRect& r) const {
     const double* z = zPrime_.row(y);
     const double rowPlane = zRef + a + c * (y - icy);
     for (int x = r.x0; x < r.x1; ++x)
-      if (!(std::fabs(z[x] - (rowPlane + b * (x - icx))) <= mergeTol_)) return true;
+      if (!(std::fabs(z[x] - (rowPlane + b * (x - icx))) <= misfitTol_)) return true;
   }
   return false;
 }
@@ -622,8 +629,8 @@ void LodBuilder::mergeLeaves() {
   // (a, b, c) and the grid moments — and a bound on its max residual:
   // |P_union − z| ≤ |P_union − P_k| + resid_k on member k, and the first
   // term is affine, so its max is at the member's corner pixel centres.
-  const double tol = mergeTol_;
   const bool splitMisfit = options_.splitMisfit;
+  const double tol = splitMisfit ? std::min(mergeTol_, misfitTol_) : mergeTol_;
   auto unionOf = [this, tol, splitMisfit](const MergeLeaf* m, int count, MergeLeaf* out) {
     PixelRect u = m[0].r;
     for (int k = 1; k < count; ++k) {

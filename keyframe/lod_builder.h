@@ -73,7 +73,7 @@ struct LodOptions {
   // passes over the pixels. Merged leaves are not planar by the Δ² test, so
   // Quad::maxDelta of a merged quad may exceed τ.
   bool mergeStrips = false;
-  // Merge (and splitMisfit) tolerance in z' units; 0 = automatic: max(τ/4, kMergeNoiseFloor),
+  // Merge tolerance in z' units; 0 = automatic: max(τ/4, kMergeNoiseFloor),
   // τ in z' units (after tauParallaxPx). τ/4 keeps merged quads as flat as
   // the Δ² test keeps leaves (a leaf with |Δ²| ≤ τ bends by up to τ/8 per
   // pixel² from its tangent plane); the floor is above the depth noise of a
@@ -97,15 +97,24 @@ struct LodOptions {
   // road) can pass it while its least-squares plane departs from its pixels
   // by about τ·L²/8 for a side of L pixels, and then warps to the wrong place
   // (docs/quad-validation.md). On: a region that passes the planarity test
-  // but whose pixels depart from its least-squares z' plane by more than the
-  // fit tolerance (mergeToleranceZPrime, or its automatic value
-  // max(τ/4, kMergeNoiseFloor)), or whose plane leaves the corner depth
+  // but whose pixels depart from its least-squares z' plane by more than
+  // misfitToleranceZPrime, or whose plane leaves the corner depth
   // bounds at its outer pixel edges (would be clamped: a plane through two
   // pixels across a depth step, which no stencil saw at an image border or
   // beside an empty pixel), is cut in the middle, in the direction the
   // subdivision would cut next, and its parts are tested again; the merge
-  // (mergeStrips) refuses such unions too. Off: the paper's leaves.
+  // (mergeStrips) refuses such unions too, and merges within the smaller of
+  // the two tolerances. Off: the paper's leaves.
   bool splitMisfit = false;
+  // splitMisfit's tolerance in z' units; 0 = automatic:
+  // max(τ/kMisfitTauDivisor, kMergeNoiseFloor), τ in z' units (after
+  // tauParallaxPx). With τ from a parallax bound p (px per scene unit of
+  // camera motion) a pixel's residual r in z' units moves it by
+  // p·r/τ px per unit, so τ/16 keeps a leaf within p/16 of its pixels:
+  // 0.008 px per unit at the default p = 0.125, under 1 px up to 120 units
+  // of motion between keyframes (docs/quad-validation.md). Must be finite
+  // and >= 0.
+  double misfitToleranceZPrime = 0.0;
 };
 
 // Robust local depth gradient, z' units per pixel, into `out` (resized only
@@ -124,6 +133,7 @@ void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::u
 double suggestedTauGradient();
 inline constexpr double kMergeNoiseFloor = 4.0;  // z' units
 inline constexpr int kMaxMergeRun = 256;         // leaves per merged run
+inline constexpr double kMisfitTauDivisor = 16.0;  // automatic misfitToleranceZPrime = τ/16
 
 // The z'-unit threshold equivalent to a parallax bound p (pixels per scene
 // unit of camera motion) for this camera.
@@ -157,8 +167,8 @@ class LodBuilder {
   //  - zPrime/covered of different sizes, or not camera.width × camera.height;
   //  - an empty image (0 pixels) or one with more than 2^30 pixels;
   //  - a camera with non-finite pose, fov outside (0, π), or not 0 < near < far;
-  //  - tau / tauParallaxPx / mergeToleranceZPrime / tauGradient negative or
-  //    non-finite;
+  //  - tau / tauParallaxPx / mergeToleranceZPrime / misfitToleranceZPrime /
+  //    tauGradient negative or non-finite;
   //  - an unknown criterion or planarity.
   // Non-finite z' at a covered pixel is treated as empty. Every corner of the
   // result is finite, with 0 < eyeZ (see clamping in recoverCorners).
@@ -204,6 +214,7 @@ class LodBuilder {
   // Regions that passed the planarity test but were cut by splitMisfit.
   int misfitSplits() const { return misfitSplits_; }
   double mergeToleranceZPrime() const { return mergeTol_; }
+  double misfitToleranceZPrime() const { return misfitTol_; }
   double tauZPrime() const { return tauZPrime_; }
 
  private:
@@ -226,7 +237,7 @@ class LodBuilder {
   void subdivideRegions();
   void mergeLeaves();
   // splitMisfit: some pixel of r departs from r's least-squares z' plane by
-  // more than mergeTol_.
+  // more than misfitTol_, or the plane clamps at r's outer corners.
   bool misfit(const PixelRect& r) const;
   // The plane z' = a + b·(x − cx) + c·(y − cy) ((cx, cy) r's centre in pixel
   // indices) leaves recoverCorners' depth bounds at one of r's outer corners.
@@ -237,6 +248,7 @@ class LodBuilder {
   LodOptions options_;
   double tauZPrime_ = 0;
   double mergeTol_ = 0;
+  double misfitTol_ = 0;
   int leavesBeforeMerge_ = 0;
   int misfitSplits_ = 0;
   double deltaMs_ = 0;

@@ -137,7 +137,7 @@ TEST(QuadValidation, SplitMisfitLeavesFitAndFlagNothing) {
     EXPECT_EQ(v.flagged, 0) << "worst " << v.maxErrorPx << " px at quad " << v.worstQuad;
     EXPECT_LT(v.maxErrorPx, 1.0);
     // Every leaf fits its pixels within the tolerance, in z' units.
-    const double tol = b.mergeToleranceZPrime();
+    const double tol = b.misfitToleranceZPrime();
     for (const Quad& q : mesh.quads) {
       const PixelRect& r = q.rect;
       if (r.area() <= 2) continue;
@@ -204,7 +204,7 @@ TEST(QuadValidation, RegionLocalCreaseCornersAreSplit) {
   const QuadMesh before = build(kf, defaultLikeLod(false), &b0);
   const QuadMesh after = build(kf, defaultLikeLod(true), &b1);
   EXPECT_GT(worstResidual(before), 2.0 * b0.mergeToleranceZPrime());
-  EXPECT_LE(worstResidual(after), b1.mergeToleranceZPrime() + 1.0);
+  EXPECT_LE(worstResidual(after), b1.misfitToleranceZPrime() + 1.0);
   EXPECT_GT(b1.misfitSplits(), 0);
 }
 
