@@ -35,6 +35,7 @@ struct CheckQuadsCli {
   std::string out;
   std::string preset = session::presetName(session::Preset::Default);
   std::string splitMisfit = "preset";
+  double misfitTolerance = 0.0;
   double tolerancePx = 1.0;
   int minBadPixels = 1;
   bool quiet = false;
@@ -80,6 +81,7 @@ int run(CheckQuadsCli& o) {
   session::parsePreset(o.preset, &preset);  // checked by the option's validator
   keyframe::LodOptions lod = session::presetOptions(preset).lod;
   if (o.splitMisfit != "preset") lod.splitMisfit = o.splitMisfit == "on";
+  lod.misfitToleranceZPrime = o.misfitTolerance;
   keyframe::QuadValidationOptions vo;
   vo.tolerancePx = o.tolerancePx;
   vo.minBadPixels = o.minBadPixels;
@@ -190,7 +192,8 @@ int run(CheckQuadsCli& o) {
                 {"planarity", keyframe::planarityName(lod.planarity)},
                 {"merge_strips", lod.mergeStrips},
                 {"tau_gradient", lod.tauGradient},
-                {"split_misfit", lod.splitMisfit}}},
+                {"split_misfit", lod.splitMisfit},
+                {"misfit_tolerance_zprime", builder.misfitToleranceZPrime()}}},
               {"tolerance_px", vo.tolerancePx},
               {"min_bad_pixels", vo.minBadPixels},
               {"summary", summary},
@@ -199,7 +202,7 @@ int run(CheckQuadsCli& o) {
   if (auto s = writeFileAtomic(dir + "report.json", doc.dump(1) + "\n"); !s) return fail(s.error().message);
   if (auto s = writeFileAtomic(dir + "keyframes.csv", csv); !s) return fail(s.error().message);
   char l1[200], l2[200];
-  std::snprintf(l1, sizeof l1, "keyframe %d: %d/%zu flagged (red), worst %.2f px", worstFrame,
+  std::snprintf(l1, sizeof l1, "keyframe %d: %d/%zu flagged, worst %.2f px", worstFrame,
                 worstV.flagged, worstMesh.quads.size(), worstV.maxErrorPx);
   std::snprintf(l2, sizeof l2, "%s, %s, split %s, tol %g px", in->scene.name.c_str(),
                 o.preset.c_str(), lod.splitMisfit ? "on" : "off", vo.tolerancePx);
@@ -232,6 +235,11 @@ void addCheckQuadsCommand(CLI::App& app, Commands& commands) {
                   "Split leaves whose plane does not fit their pixels: on, off, or the preset's")
       ->check(CLI::IsMember({"preset", "on", "off"}))
       ->capture_default_str();
+  cmd->add_option("--misfit-tolerance", o.misfitTolerance,
+                  "With the split: largest departure of a leaf's pixels from its plane, in z' "
+                  "units (2^24 scale; 0 = automatic: tau/16, at least 4)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
   cmd->add_option("--tolerance-px", o.tolerancePx,
                   "Flag a quad when a pixel of it lands more than this many target pixels from "
                   "the keyframe pixel's own reprojection")
@@ -244,7 +252,7 @@ void addCheckQuadsCommand(CLI::App& app, Commands& commands) {
   cmd->add_flag("--quiet", o.quiet, "No line per keyframe");
   setGroups(cmd, {{"Essentials", {"--help", "--scene", "--path", "--out", "--preset", "--frames",
                                   "--width", "--height", "--quiet"}},
-                  {"Level of detail", {"--split-misfit", "--depth"}},
+                  {"Level of detail", {"--split-misfit", "--misfit-tolerance", "--depth"}},
                   {"Validation", {"--tolerance-px", "--min-bad-pixels"}}});
   commands.push_back({cmd, [state](int, char**) { return run(*state); }});
 }
