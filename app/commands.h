@@ -28,5 +28,6 @@ void addScheduleStudyCommand(CLI::App& app, Commands& commands);
 void addScheduleOracleCommand(CLI::App& app, Commands& commands);
 void addScenesCommand(CLI::App& app, Commands& commands);
 void addPathCommand(CLI::App& app, Commands& commands);
+void addCheckQuadsCommand(CLI::App& app, Commands& commands);
 
 }  // namespace hw::app

@@ -53,6 +53,7 @@ int runMain(int argc, char** argv) {
   addScheduleOracleCommand(app, commands);
   addScenesCommand(app, commands);
   addPathCommand(app, commands);
+  addCheckQuadsCommand(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&

@@ -392,6 +392,7 @@ json meshOptionsJson(const LodOptions& lod) {
   // Only when used, so that databases baked without it (before it existed)
   // still match a fixed-τ run, and one baked with it never does.
   if (lod.tauGradient > 0) j["tau_gradient"] = lod.tauGradient;
+  if (lod.splitMisfit) j["split_misfit"] = lod.misfitToleranceZPrime;  // 0 = automatic
   return j;
 }
 

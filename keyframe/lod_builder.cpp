@@ -214,6 +214,10 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
     return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
                      std::to_string(options.mergeToleranceZPrime));
   }
+  if (!(options.misfitToleranceZPrime >= 0.0 && std::isfinite(options.misfitToleranceZPrime))) {
+    return makeError("LOD builder: misfitToleranceZPrime must be finite and >= 0, got " +
+                     std::to_string(options.misfitToleranceZPrime));
+  }
   if (!(options.tauGradient >= 0.0 && std::isfinite(options.tauGradient))) {
     return makeError("LOD builder: tauGradient must be finite and >= 0, got " +
                      std::to_string(options.tauGradient));
@@ -298,6 +302,11 @@ double LodBuilder::subdivide() {
   Stopwatch sw;
   const int w = delta_.width(), h = delta_.height();
   satStride_ = w + 1;
+  mergeTol_ = options_.mergeToleranceZPrime > 0.0 ? options_.mergeToleranceZPrime
+                                                  : std::max(0.25 * tauZPrime_, kMergeNoiseFloor);
+  misfitTol_ = options_.misfitToleranceZPrime > 0.0
+                   ? options_.misfitToleranceZPrime
+                   : std::max(tauZPrime_ / kMisfitTauDivisor, kMergeNoiseFloor);
   if (options_.planarity == Planarity::RegionLocal) {
     buildLocalTables();
     subdivideRegions<true>();
@@ -334,8 +343,6 @@ double LodBuilder::subdivide() {
     subdivideRegions<false>();
   }
   leavesBeforeMerge_ = static_cast<int>(leaves_.size());
-  mergeTol_ = options_.mergeToleranceZPrime > 0.0 ? options_.mergeToleranceZPrime
-                                                  : std::max(0.25 * tauZPrime_, kMergeNoiseFloor);
   if (options_.mergeStrips) mergeLeaves();
   return sw.ms();
 }
@@ -345,6 +352,7 @@ void LodBuilder::subdivideRegions() {
   const int w = delta_.width(), h = delta_.height();
   leaves_.clear();
   stack_.clear();
+  misfitSplits_ = 0;
   stack_.push_back(Region{0, 0, w, h, true});
   const std::uint8_t* valid = valid_.data();
   auto stencilClean = [this](int x0, int y0, int x1, int y1) {
@@ -365,16 +373,29 @@ void LodBuilder::subdivideRegions() {
       // always covered, since empty pixels are never dirty.
       leaf = !dirty || onePixel;
     }
+    // A clean, covered region whose plane does not fit it (or reaches past
+    // its depth bounds at its outer edges, as a plane through two pixels
+    // across a step does) is cut in the middle.
+    bool misfitCut = false;
     if (leaf) {
-      if (valid[static_cast<std::ptrdiff_t>(r.y0) * w + r.x0] != 0) {
-        leaves_.push_back(PixelRect{r.x0, r.y0, r.x1, r.y1});
+      if (valid[static_cast<std::ptrdiff_t>(r.y0) * w + r.x0] == 0) continue;
+      const PixelRect rect{r.x0, r.y0, r.x1, r.y1};
+      if (!(options_.splitMisfit && rect.area() > 1 && misfit(rect))) {
+        leaves_.push_back(rect);
+        continue;
       }
-      continue;
+      misfitCut = true;
+      ++misfitSplits_;
     }
     bool cutX = r.cutX;
     if (cutX && r.x1 - r.x0 == 1) cutX = false;
     if (!cutX && r.y1 - r.y0 == 1) cutX = true;
-    const int c = kLocal ? findCut(r, cutX, localClean) : findCut(r, cutX, stencilClean);
+    int c;
+    if (misfitCut) {
+      c = cutX ? r.x0 + (r.x1 - r.x0) / 2 : r.y0 + (r.y1 - r.y0) / 2;
+    } else {
+      c = kLocal ? findCut(r, cutX, localClean) : findCut(r, cutX, stencilClean);
+    }
     // Push the far part first so the near (left/top) part is processed first.
     if (cutX) {
       HW_CHECK(c > r.x0 && c < r.x1);
@@ -513,6 +534,56 @@ inline double gridSuu(int w, int h) {
 
 }  // namespace
 
+bool LodBuilder::cornersClamp(const PixelRect& r, double a, double b, double c) const {
+  // The plane at the outer pixel edges, half the leaf's size from its centre
+  // either way, against recoverCorners' bounds.
+  const double n = camera_.nearPlane, f = camera_.farPlane;
+  const double z00 = zPrime_(r.x0, r.y0), z10 = zPrime_(r.x1 - 1, r.y0);
+  const double z01 = zPrime_(r.x0, r.y1 - 1), z11 = zPrime_(r.x1 - 1, r.y1 - 1);
+  const DepthBounds bounds =
+      cornerBounds(eyeZFromZPrime(std::min(std::min(z00, z10), std::min(z01, z11)), n, f),
+                   eyeZFromZPrime(std::max(std::max(z00, z10), std::max(z01, z11)), n, f), n, f);
+  const double hu = 0.5 * r.width(), hv = 0.5 * r.height();
+  for (const double su : {-hu, hu})
+    for (const double sv : {-hv, hv}) {
+      const double z = eyeZFromZPrime(a + b * su + c * sv, n, f);
+      if (clampDepth(z, bounds) != z) return true;
+    }
+  return false;
+}
+
+bool LodBuilder::misfit(const PixelRect& r) const {
+  // The least-squares plane as in recoverCorners (the normal equations
+  // decouple on a full grid), then the first pixel beyond the tolerance.
+  const double icx = 0.5 * (r.x0 + r.x1 - 1), icy = 0.5 * (r.y0 + r.y1 - 1);
+  const double zRef = zPrime_(r.x0, r.y0);
+  double sum = 0, sumU = 0, sumV = 0;
+  for (int y = r.y0; y < r.y1; ++y) {
+    const double* z = zPrime_.row(y);
+    double rs = 0, ru = 0;
+    for (int x = r.x0; x < r.x1; ++x) {
+      const double d = z[x] - zRef;
+      rs += d;
+      ru += d * (x - icx);
+    }
+    sum += rs;
+    sumU += ru;
+    sumV += rs * (y - icy);
+  }
+  const double suu = gridSuu(r.width(), r.height()), svv = gridSuu(r.height(), r.width());
+  const double a = sum / static_cast<double>(r.area());
+  const double b = suu > 0 ? sumU / suu : 0.0;
+  const double c = svv > 0 ? sumV / svv : 0.0;
+  if (cornersClamp(r, zRef + a, b, c)) return true;
+  for (int y = r.y0; y < r.y1; ++y) {
+    const double* z = zPrime_.row(y);
+    const double rowPlane = zRef + a + c * (y - icy);
+    for (int x = r.x0; x < r.x1; ++x)
+      if (!(std::fabs(z[x] - (rowPlane + b * (x - icx))) <= misfitTol_)) return true;
+  }
+  return false;
+}
+
 void LodBuilder::mergeLeaves() {
   // Least-squares plane and max residual of every leaf: two passes over its
   // pixels (the normal equations decouple on a full grid, as in
@@ -558,8 +629,9 @@ void LodBuilder::mergeLeaves() {
   // (a, b, c) and the grid moments — and a bound on its max residual:
   // |P_union − z| ≤ |P_union − P_k| + resid_k on member k, and the first
   // term is affine, so its max is at the member's corner pixel centres.
-  const double tol = mergeTol_;
-  auto unionOf = [tol](const MergeLeaf* m, int count, MergeLeaf* out) {
+  const bool splitMisfit = options_.splitMisfit;
+  const double tol = splitMisfit ? std::min(mergeTol_, misfitTol_) : mergeTol_;
+  auto unionOf = [this, tol, splitMisfit](const MergeLeaf* m, int count, MergeLeaf* out) {
     PixelRect u = m[0].r;
     for (int k = 1; k < count; ++k) {
       u.x0 = std::min(u.x0, m[k].r.x0);
@@ -594,6 +666,7 @@ void LodBuilder::mergeLeaves() {
         }
       if (!(bound <= tol)) return false;
     }
+    if (splitMisfit && cornersClamp(u, a, b, c)) return false;
     *out = MergeLeaf{u, a, b, c, bound};
     return true;
   };

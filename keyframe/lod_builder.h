@@ -91,6 +91,30 @@ struct LodOptions {
   // 2-line step guard; the merge tolerance itself stays absolute. 0 = off:
   // results bit-identical to the fixed τ. Must be finite and >= 0.
   double tauGradient = 0.0;
+  // Split a leaf whose plane does not fit its own pixels, whatever τ says:
+  // the Δ² test is local (each pixel may bend by up to τ), so a large leaf
+  // on a gently curved surface (a pillar beside the viewer, a dome, a rolling
+  // road) can pass it while its least-squares plane departs from its pixels
+  // by about τ·L²/8 for a side of L pixels, and then warps to the wrong place
+  // (docs/quad-validation.md). On: a region that passes the planarity test
+  // but whose pixels depart from its least-squares z' plane by more than
+  // misfitToleranceZPrime, or whose plane leaves the corner depth
+  // bounds at its outer pixel edges (would be clamped: a plane through two
+  // pixels across a depth step, which no stencil saw at an image border or
+  // beside an empty pixel), is cut in the middle, in the direction the
+  // subdivision would cut next, and its parts are tested again; the merge
+  // (mergeStrips) refuses such unions too, and merges within the smaller of
+  // the two tolerances. Off: the paper's leaves.
+  bool splitMisfit = false;
+  // splitMisfit's tolerance in z' units; 0 = automatic:
+  // max(τ/kMisfitTauDivisor, kMergeNoiseFloor), τ in z' units (after
+  // tauParallaxPx). With τ from a parallax bound p (px per scene unit of
+  // camera motion) a pixel's residual r in z' units moves it by
+  // p·r/τ px per unit, so τ/16 keeps a leaf within p/16 of its pixels:
+  // 0.008 px per unit at the default p = 0.125, under 1 px up to 120 units
+  // of motion between keyframes (docs/quad-validation.md). Must be finite
+  // and >= 0.
+  double misfitToleranceZPrime = 0.0;
 };
 
 // Robust local depth gradient, z' units per pixel, into `out` (resized only
@@ -109,6 +133,7 @@ void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::u
 double suggestedTauGradient();
 inline constexpr double kMergeNoiseFloor = 4.0;  // z' units
 inline constexpr int kMaxMergeRun = 256;         // leaves per merged run
+inline constexpr double kMisfitTauDivisor = 16.0;  // automatic misfitToleranceZPrime = τ/16
 
 // The z'-unit threshold equivalent to a parallax bound p (pixels per scene
 // unit of camera motion) for this camera.
@@ -142,8 +167,8 @@ class LodBuilder {
   //  - zPrime/covered of different sizes, or not camera.width × camera.height;
   //  - an empty image (0 pixels) or one with more than 2^30 pixels;
   //  - a camera with non-finite pose, fov outside (0, π), or not 0 < near < far;
-  //  - tau / tauParallaxPx / mergeToleranceZPrime / tauGradient negative or
-  //    non-finite;
+  //  - tau / tauParallaxPx / mergeToleranceZPrime / misfitToleranceZPrime /
+  //    tauGradient negative or non-finite;
   //  - an unknown criterion or planarity.
   // Non-finite z' at a covered pixel is treated as empty. Every corner of the
   // result is finite, with 0 < eyeZ (see clamping in recoverCorners).
@@ -186,7 +211,10 @@ class LodBuilder {
   const std::vector<PixelRect>& leaves() const { return leaves_; }
   // Leaves before mergeStrips (equal to leaves().size() without it).
   int leavesBeforeMerge() const { return leavesBeforeMerge_; }
+  // Regions that passed the planarity test but were cut by splitMisfit.
+  int misfitSplits() const { return misfitSplits_; }
   double mergeToleranceZPrime() const { return mergeTol_; }
+  double misfitToleranceZPrime() const { return misfitTol_; }
   double tauZPrime() const { return tauZPrime_; }
 
  private:
@@ -208,13 +236,21 @@ class LodBuilder {
   template <bool kLocal>
   void subdivideRegions();
   void mergeLeaves();
+  // splitMisfit: some pixel of r departs from r's least-squares z' plane by
+  // more than misfitTol_, or the plane clamps at r's outer corners.
+  bool misfit(const PixelRect& r) const;
+  // The plane z' = a + b·(x − cx) + c·(y − cy) ((cx, cy) r's centre in pixel
+  // indices) leaves recoverCorners' depth bounds at one of r's outer corners.
+  bool cornersClamp(const PixelRect& r, double a, double b, double c) const;
 
   ImageView<const double> zPrime_;
   Camera camera_;
   LodOptions options_;
   double tauZPrime_ = 0;
   double mergeTol_ = 0;
+  double misfitTol_ = 0;
   int leavesBeforeMerge_ = 0;
+  int misfitSplits_ = 0;
   double deltaMs_ = 0;
   long long emptyPixels_ = 0;
   Image<std::uint8_t> valid_;

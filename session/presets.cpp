@@ -23,6 +23,7 @@ WalkOptions presetOptions(Preset p) {
   o.lod.tauParallaxPx = 0.125;
   o.lod.planarity = keyframe::Planarity::RegionLocal;
   o.lod.mergeStrips = true;
+  o.lod.splitMisfit = true;  // no leaf whose plane misses its pixels (docs/quad-validation.md)
   o.asyncKeyframes = true;
   return o;
 }
