@@ -72,6 +72,7 @@ struct WalkCli {
   std::string texcoords = "projective";
   std::string planarity = keyframe::planarityName(defaults.lod.planarity);
   bool mergeStrips = defaults.lod.mergeStrips;
+  bool splitMisfit = defaults.lod.splitMisfit;
   double tauPx = defaults.lod.tauParallaxPx;
   bool noRef = false;
   bool saveFrames = false;
@@ -131,6 +132,7 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
   if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
   if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
   if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
+  if (given("--split-misfit") || given("--no-split-misfit")) wo.lod.splitMisfit = o.splitMisfit;
   if (std::string err; !parseTauGradient(o.tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
   if (given("--compose"))
     gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
@@ -412,6 +414,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                  "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger "
                  "quads, or not")
       ->capture_default_str();
+  walk->add_flag("--split-misfit,!--no-split-misfit", o.splitMisfit,
+                 "Cut a leaf that passed the planarity test but whose least-squares plane "
+                 "misses its own pixels (by max(tau/16, 4) z' units), or whose corners cross "
+                 "a crease; no mis-warped quads (docs/quad-validation.md), more quads")
+      ->capture_default_str();
   walk->add_option("--tau-gradient", o.tauGradS, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", o.compose,
                    "Composition: overlay (paper: nearer keyframe in front), depth-merge "
@@ -621,7 +628,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                                    "--height", "--frames", "--strips", "--quiet", "--no-reference",
                                    "--preset", "--mode"}},
                    {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
-                                        "--merge-strips", "--no-merge-strips", "--tau-gradient", "--depth", "--subdivide",
+                                        "--merge-strips", "--no-merge-strips", "--split-misfit", "--no-split-misfit", "--tau-gradient", "--depth", "--subdivide",
                                         "--subdivide-cell", "--primitives"}},
                    {"Composition", {"--compose", "--blend-softness", "--fallback", "--render-holes", "--no-render-holes", "--layers", "--near", "--texcoords",
                                     "--no-sky-backdrop", "--no-skip-background",

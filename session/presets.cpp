@@ -38,6 +38,7 @@ PresetConflict differenceFromPaper(const WalkOptions& o) {
   if (o.lod.planarity != paper.lod.planarity)
     return {"--planarity", keyframe::planarityName(paper.lod.planarity)};
   if (o.lod.mergeStrips != paper.lod.mergeStrips) return {"--merge-strips", "no merging"};
+  if (o.lod.splitMisfit != paper.lod.splitMisfit) return {"--split-misfit", "no misfit split"};
   if (o.lod.tauGradient != paper.lod.tauGradient) return {"--tau-gradient", "0"};
   if (o.inBetween.compose.mode != paper.inBetween.compose.mode)
     return {"--compose", gapfill::composeModeName(paper.inBetween.compose.mode)};
