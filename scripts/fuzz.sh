@@ -13,6 +13,9 @@
 #                   q3shader, json_guard, texture (the */NAME_fuzz.cpp targets);
 #                   default: all of them, one after another
 #   --time S        seconds per target (default 600 = 10 minutes)
+#   --unit-timeout S  an input running longer counts as a failure (default
+#                   10; wall-clock time: at nice 19 on a loaded machine a
+#                   0.3 s input took over 10 s, so raise it there)
 #   --work DIR      scratch corpora, crashes and logs (default out/fuzz;
 #                   kept between runs, so a second run continues the first)
 #   --merge         afterwards, copy the scratch inputs that add coverage into
@@ -28,6 +31,7 @@ set -u
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here" || exit 2
 seconds=600
+unit_timeout=10
 work=out/fuzz
 merge=0
 build=1
@@ -35,16 +39,20 @@ names=()
 while [ $# -gt 0 ]; do
   case $1 in
     --time) seconds=${2:-}; shift 2 || { echo "fuzz.sh: --time needs a value" >&2; exit 2; } ;;
+    --unit-timeout) unit_timeout=${2:-}; shift 2 || { echo "fuzz.sh: --unit-timeout needs a value" >&2; exit 2; } ;;
     --work) work=${2:-}; shift 2 || { echo "fuzz.sh: --work needs a value" >&2; exit 2; } ;;
     --merge) merge=1; shift ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "fuzz.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) names+=("${1%_fuzz}"); shift ;;
   esac
 done
 if ! [[ $seconds =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
   echo "fuzz.sh: --time: expected whole seconds >= 1, got '$seconds'" >&2; exit 2
+fi
+if ! [[ $unit_timeout =~ ^[0-9]+$ ]] || [ "$unit_timeout" -lt 1 ]; then
+  echo "fuzz.sh: --unit-timeout: expected whole seconds >= 1, got '$unit_timeout'" >&2; exit 2
 fi
 [ -n "$work" ] || { echo "fuzz.sh: --work: expected a directory, got ''" >&2; exit 2; }
 
@@ -80,7 +88,7 @@ for n in "${names[@]}"; do
   echo "fuzz: $n for $seconds s (seeds tests/fuzz/$n/, new inputs $dir/corpus/, crashes $dir/crashes/)"
   status=0
   # Scratch corpus first: libFuzzer writes new inputs into the first directory.
-  "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 \
+  "$bin" -max_total_time="$seconds" -timeout="$unit_timeout" -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$dir/crashes/" "$dir/corpus" "tests/fuzz/$n" >"$dir/log" 2>&1 || status=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$dir/log" | tail -1)
