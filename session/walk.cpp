@@ -790,8 +790,9 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
     s.psnr.push_back(std::isfinite(p) ? p : 99.0);
     s.ssim.push_back(q);
-    // How much of the error the stale pixels (no keyframe of this pair, near
-    // geometry or refresh drew them) carry, and the PSNR of the others.
+    // How much of the error the holes (holesBefore: no keyframe layer of this
+    // pair nor near geometry drew them; filled by the fallback, the refresh or
+    // --render-holes) carry, and the PSNR of the other pixels.
     const std::size_t n = frame_.colour.size();
     if (frame_.holesBefore.size() == n && reference_.size() == n) {
       const Rgba8* a = frame_.colour.data();
