@@ -552,9 +552,10 @@ bool LodBuilder::cornersClamp(const PixelRect& r, double a, double b, double c) 
   return false;
 }
 
-bool LodBuilder::misfit(const PixelRect& r) const {
-  // The least-squares plane as in recoverCorners (the normal equations
-  // decouple on a full grid), then the first pixel beyond the tolerance.
+// The least-squares z' plane of r's pixels, z' = a + b·(x − cx) + c·(y − cy)
+// with (cx, cy) r's centre in pixel indices (the normal equations decouple on
+// a full grid, as in recoverCorners).
+LodBuilder::Plane LodBuilder::fitPlane(const PixelRect& r) const {
   const double icx = 0.5 * (r.x0 + r.x1 - 1), icy = 0.5 * (r.y0 + r.y1 - 1);
   const double zRef = zPrime_(r.x0, r.y0);
   double sum = 0, sumU = 0, sumV = 0;
@@ -571,56 +572,51 @@ bool LodBuilder::misfit(const PixelRect& r) const {
     sumV += rs * (y - icy);
   }
   const double suu = gridSuu(r.width(), r.height()), svv = gridSuu(r.height(), r.width());
-  const double a = sum / static_cast<double>(r.area());
-  const double b = suu > 0 ? sumU / suu : 0.0;
-  const double c = svv > 0 ? sumV / svv : 0.0;
-  if (cornersClamp(r, zRef + a, b, c)) return true;
+  return {zRef + sum / static_cast<double>(r.area()), suu > 0 ? sumU / suu : 0.0,
+          svv > 0 ? sumV / svv : 0.0};
+}
+
+// The largest |z' − plane| over r's pixels; stops at the first one above a
+// finite `stopAbove` and returns it (a NaN depth counts as above, returned as
+// +inf). With stopAbove = +inf every pixel is scanned and NaNs are skipped.
+double LodBuilder::maxResidual(const PixelRect& r, const Plane& p, double stopAbove) const {
+  const double icx = 0.5 * (r.x0 + r.x1 - 1), icy = 0.5 * (r.y0 + r.y1 - 1);
+  double resid = 0;
   for (int y = r.y0; y < r.y1; ++y) {
     const double* z = zPrime_.row(y);
-    const double rowPlane = zRef + a + c * (y - icy);
-    for (int x = r.x0; x < r.x1; ++x)
-      if (!(std::fabs(z[x] - (rowPlane + b * (x - icx))) <= misfitTol_)) return true;
+    const double rowPlane = p.a + p.c * (y - icy);
+    for (int x = r.x0; x < r.x1; ++x) {
+      const double d = std::fabs(z[x] - (rowPlane + p.b * (x - icx)));
+      if (d > stopAbove) return d;
+      if (std::isnan(d)) {
+        if (stopAbove < std::numeric_limits<double>::infinity())
+          return std::numeric_limits<double>::infinity();
+        continue;
+      }
+      resid = std::max(resid, d);
+    }
   }
-  return false;
+  return resid;
+}
+
+bool LodBuilder::misfit(const PixelRect& r) const {
+  const Plane p = fitPlane(r);
+  if (cornersClamp(r, p.a, p.b, p.c)) return true;
+  return maxResidual(r, p, misfitTol_) > misfitTol_;
 }
 
 void LodBuilder::mergeLeaves() {
-  // Least-squares plane and max residual of every leaf: two passes over its
-  // pixels (the normal equations decouple on a full grid, as in
-  // recoverCorners).
+  // Least-squares plane and max residual of every leaf.
   merge_.resize(leaves_.size());
   for (std::size_t k = 0; k < leaves_.size(); ++k) {
     const PixelRect& r = leaves_[k];
-    const double icx = 0.5 * (r.x0 + r.x1 - 1), icy = 0.5 * (r.y0 + r.y1 - 1);
-    const double zRef = zPrime_(r.x0, r.y0);
-    double sum = 0, sumU = 0, sumV = 0;
-    for (int y = r.y0; y < r.y1; ++y) {
-      const double* z = zPrime_.row(y);
-      double rs = 0, ru = 0;
-      for (int x = r.x0; x < r.x1; ++x) {
-        const double d = z[x] - zRef;
-        rs += d;
-        ru += d * (x - icx);
-      }
-      sum += rs;
-      sumU += ru;
-      sumV += rs * (y - icy);
-    }
-    const double suu = gridSuu(r.width(), r.height()), svv = gridSuu(r.height(), r.width());
+    const Plane p = fitPlane(r);
     MergeLeaf& m = merge_[k];
     m.r = r;
-    m.a = zRef + sum / static_cast<double>(r.area());
-    m.b = suu > 0 ? sumU / suu : 0.0;
-    m.c = svv > 0 ? sumV / svv : 0.0;
-    double resid = 0;
-    for (int y = r.y0; y < r.y1; ++y) {
-      const double* z = zPrime_.row(y);
-      const double rowPlane = m.a + m.c * (y - icy);
-      for (int x = r.x0; x < r.x1; ++x) {
-        resid = std::max(resid, std::fabs(z[x] - (rowPlane + m.b * (x - icx))));
-      }
-    }
-    m.resid = resid;
+    m.a = p.a;
+    m.b = p.b;
+    m.c = p.c;
+    m.resid = maxResidual(r, p, std::numeric_limits<double>::infinity());
   }
 
   // Union of the contiguous run m[0..count) (identical spans): its plane from

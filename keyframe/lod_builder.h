@@ -239,6 +239,11 @@ class LodBuilder {
   // splitMisfit: some pixel of r departs from r's least-squares z' plane by
   // more than misfitTol_, or the plane clamps at r's outer corners.
   bool misfit(const PixelRect& r) const;
+  struct Plane {
+    double a, b, c;  // z' = a + b·(x − cx) + c·(y − cy), (cx, cy) the rect's centre
+  };
+  Plane fitPlane(const PixelRect& r) const;
+  double maxResidual(const PixelRect& r, const Plane& p, double stopAbove) const;
   // The plane z' = a + b·(x − cx) + c·(y − cy) ((cx, cy) r's centre in pixel
   // indices) leaves recoverCorners' depth bounds at one of r's outer corners.
   bool cornersClamp(const PixelRect& r, double a, double b, double c) const;

@@ -91,6 +91,7 @@ class WalkLoop {
   Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
   Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
   Status renderHoles(const Camera& cam, json& fj, json& ms, long long* renderedHoles);
+  void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
   void endFrameWork(json& ms, FrameKind kind);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
@@ -621,11 +622,7 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
     if (workBeforeRefreshMs_ < 0) workBeforeRefreshMs_ = frameSw_.ms();
     Stopwatch one;
     HW_TRY(renderer_->renderColourRect(cam, r, refreshColour_));
-    gapfill::applyRefresh(r, refreshColour_, frame_);
-    for (int y = r.y0; y < r.y1; ++y)
-      for (int x = r.x0; x < r.x1; ++x)
-        step_.clearLargeQuad(static_cast<std::size_t>(y) * static_cast<std::size_t>(cam.width) +
-                             static_cast<std::size_t>(x));
+    applyRendered(r, refreshColour_);
     const double t = one.ms();
     refreshCost_.update(r.area(), t);
     s.refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
@@ -649,6 +646,16 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
   return {};
 }
 
+// A rectangle drawn by the geometry renderer put into the frame (age 0,
+// valid; no longer a large leaf's pixels).
+void WalkLoop::applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour) {
+  gapfill::applyRefresh(r, colour, frame_);
+  const auto w = static_cast<std::size_t>(frame_.colour.width());
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x)
+      step_.clearLargeQuad(static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
+}
+
 // WalkOptions::renderHoles: the hole rectangles (gapfill/hole_rects.h)
 // re-rendered by the geometry renderer. *renderedHoles: the hole pixels
 // (holesBefore) they drew.
@@ -657,7 +664,6 @@ Status WalkLoop::renderHoles(const Camera& cam, json& fj, json& ms, long long* r
   gapfill::holeRects(frame_.holesBefore, WalkOptions::kHoleTilePx,
                      WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, holeRects_,
                      holeScores_);
-  const int w = frame_.colour.width();
   const std::size_t n = holeRects_.size();
   holeRectPx_.resize(n);
   if (holeColours_.size() < n) holeColours_.resize(n);
@@ -667,14 +673,9 @@ Status WalkLoop::renderHoles(const Camera& cam, json& fj, json& ms, long long* r
                                         holeColours_.data()));
   long long drawn = 0, area = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    const keyframe::PixelRect& r = holeRectPx_[k];
-    gapfill::applyRefresh(r, holeColours_[k], frame_);
-    for (int y = r.y0; y < r.y1; ++y)
-      for (int x = r.x0; x < r.x1; ++x)
-        step_.clearLargeQuad(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                             static_cast<std::size_t>(x));
+    applyRendered(holeRectPx_[k], holeColours_[k]);
     drawn += holeRects_[k].holes;
-    area += r.area();
+    area += holeRectPx_[k].area();
   }
   *renderedHoles = drawn;
   ms["render_holes"] = sw.ms();
