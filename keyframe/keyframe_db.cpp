@@ -534,6 +534,17 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
         return makeError(indexPath + ": keyframe frame " + std::to_string(e.frame) +
                          " is past the last frame of the " + bf["frames"].dump() +
                          "-frame walk it was baked for");
+  // Every keyframe file is looked at now (a stat, not a read): a walk whose
+  // mode never reads a file would otherwise pass over a damaged one.
+  for (const auto& e : db.entries_) {
+    const std::string path = dir + "/" + e.file;
+    auto size = regularFileSize(path);
+    if (!size) return size.error();
+    if (*size != e.bytes)
+      return makeError(path + ": " + (*size < e.bytes ? "truncated" : "grown") +
+                       ": index.json says " + std::to_string(e.bytes) + " bytes, file has " +
+                       std::to_string(*size));
+  }
   std::sort(db.entries_.begin(), db.entries_.end(),
             [](const KeyframeDbEntry& a, const KeyframeDbEntry& b) { return a.frame < b.frame; });
   return db;

@@ -68,15 +68,15 @@ check walk-db-bit-identical-frames same_frames
 cp -r db flipped
 python3 -c "
 f = open('flipped/kf_000004.hwkf', 'r+b'); f.seek(3000); b = f.read(1); f.seek(3000); f.write(bytes([b[0] ^ 1]))"
-"$hw" walk "${common[@]}" --out bad --keyframes flipped 2>err.txt
+"$hw" walk --mode hybrid "${common[@]}" --out bad --keyframes flipped 2>err.txt
 check flipped-byte-fails test $? -eq 1
 check flipped-byte-named grep -q 'flipped/kf_000004.hwkf: checksum mismatch' err.txt
 cp -r db cut
 truncate -s 5000 cut/kf_000008.hwkf
-"$hw" walk "${common[@]}" --out bad --keyframes cut 2>err.txt
+"$hw" walk --mode hybrid "${common[@]}" --out bad --keyframes cut 2>err.txt
 check truncated-fails test $? -eq 1
 check truncated-named grep -q 'cut/kf_000008.hwkf: truncated' err.txt
-"$hw" walk "${common[@]}" --out bad --keyframes db --tau 4096 2>err.txt
+"$hw" walk --mode hybrid "${common[@]}" --out bad --keyframes db --tau 4096 2>err.txt
 check other-options-refused grep -q 'mesh.tau 2048.0, this run has 4096.0' err.txt
 
 check bake-workers "$hw" bake "${common[@]}" --out dbw --workers 2 --keyframes-per-task 1

@@ -259,6 +259,25 @@ TEST_F(KeyframeDbDir, CorruptTruncatedAndReplacedFilesAreNamed) {
   EXPECT_NE(s.error().message.find("index.json"), std::string::npos) << s.error().message;
 }
 
+TEST_F(KeyframeDbDir, OpenChecksEveryFileSizeBeforeAnyRead) {
+  const std::string f = dir_ + "/" + keyframeFileName(10);
+  const std::string bytes = *readFile(f);
+  ASSERT_TRUE(writeFileAtomic(f, bytes.substr(0, bytes.size() - 1)).ok());
+  auto cut = KeyframeDb::open(dir_);
+  ASSERT_FALSE(cut.ok());
+  EXPECT_NE(cut.error().message.find(keyframeFileName(10) + ": truncated"), std::string::npos)
+      << cut.error().message;
+  ASSERT_TRUE(writeFileAtomic(f, bytes + "x").ok());
+  auto grown = KeyframeDb::open(dir_);
+  ASSERT_FALSE(grown.ok());
+  EXPECT_NE(grown.error().message.find("grown"), std::string::npos) << grown.error().message;
+  std::filesystem::remove(f);
+  auto gone = KeyframeDb::open(dir_);
+  ASSERT_FALSE(gone.ok());
+  EXPECT_NE(gone.error().message.find(keyframeFileName(10)), std::string::npos)
+      << gone.error().message;
+}
+
 TEST_F(KeyframeDbDir, PrefetchingSourceGivesTheSameKeyframes) {
   auto db = KeyframeDb::open(dir_);
   ASSERT_TRUE(db.ok());
