@@ -16,7 +16,12 @@ void holeRects(const Image<std::uint8_t>& holes, int tileSize, int minHolesPerTi
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* row = &holes(0, y);
     std::uint32_t* tileRow = scratch.data() + static_cast<std::size_t>(y / tileSize) * cols;
-    for (int x = 0; x < w; ++x) tileRow[x / tileSize] += row[x] != 0;
+    for (int tx = 0, x0 = 0; tx < cols; ++tx, x0 += tileSize) {
+      const int x1 = std::min(w, x0 + tileSize);
+      std::uint32_t n = 0;
+      for (int x = x0; x < x1; ++x) n += row[x] != 0;
+      tileRow[tx] += n;
+    }
   }
   const auto minHoles = static_cast<std::uint32_t>(minHolesPerTile);
   // Built in tile units. A run of a row extends the rectangle ending right

@@ -365,12 +365,14 @@ class GlGeometryRenderer final : public GeometryRenderer {
       fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
       drawItems(planes, filter, stats);
     } else {
+      // One clear of the whole target (a fast clear; a scissored one is a
+      // draw of its own): what lies outside the rectangles is never read.
+      fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
       glEnable(GL_SCISSOR_TEST);
       for (int k = 0; k < rectCount; ++k) {
         const PixelRect& rect = rects[k];
-        // GL's scissor box counts rows from the bottom; glClear honours it.
+        // GL's scissor box counts rows from the bottom.
         glScissor(rect.x0, camera.height - rect.y1, rect.width(), rect.height());
-        fbo_.bindAndClear(sky_.r, sky_.g, sky_.b, 1.0f);
         // The rectangle's sub-frustum, grown by one pixel so that rounding
         // never culls a mesh with a fragment in it: x_ndc in [l, r], y_ndc in
         // [b, t].
