@@ -68,6 +68,7 @@ struct WalkCli {
   std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
   std::string fallback = "copy";
   bool renderHoles = defaults.renderHoles;
+  double renderHolesBudget = defaults.renderHolesBudget;
   float blendSoftness = 0.05f;
   std::string texcoords = "projective";
   std::string planarity = keyframe::planarityName(defaults.lod.planarity);
@@ -139,6 +140,7 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
   if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
   if (given("--fallback")) gapfill::parseFallback(o.fallback.c_str(), &wo.inBetween.fallback);
   if (given("--render-holes") || given("--no-render-holes")) wo.renderHoles = o.renderHoles;
+  if (given("--render-holes-budget")) wo.renderHolesBudget = o.renderHolesBudget;
   if (given("--blend-softness")) wo.inBetween.compose.blendSoftness = o.blendSoftness;
   if (given("--subdivide"))
     wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
@@ -445,6 +447,13 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                  "(the most holes first; scissored, the scene's clusters culled to each); "
                  "isolated cracks keep the fallback's pixels")
       ->capture_default_str();
+  walk->add_option("--render-holes-budget", o.renderHolesBudget,
+                   "With --render-holes: the hole pass may take up to this fraction of a "
+                   "geometry frame's time (measured in this run); rectangles are drawn, most "
+                   "holes first, while their estimated cost fits it and keeps the frame below "
+                   "one geometry frame. 0 = no cap")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   walk->add_option("--texcoords", o.texcoords,
                    "Warp texture mapping: projective (exact for planar quads) or affine "
                    "(plain perspective-correct s,t; for comparison)")
@@ -630,7 +639,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
                                         "--merge-strips", "--no-merge-strips", "--split-misfit", "--no-split-misfit", "--tau-gradient", "--depth", "--subdivide",
                                         "--subdivide-cell", "--primitives"}},
-                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--render-holes", "--no-render-holes", "--layers", "--near", "--texcoords",
+                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--render-holes", "--no-render-holes", "--render-holes-budget", "--layers", "--near", "--texcoords",
                                     "--no-sky-backdrop", "--no-skip-background",
                                     "--no-skip-previous", "--cull-background"}},
                    {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",

@@ -8,6 +8,7 @@
 // budget — spending the time left on refreshing stale pixels — and only those
 // slower than that quantile are late. Pure logic, no allocation after
 // construction.
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstddef>
@@ -73,6 +74,35 @@ struct RefreshCostModel {
   void update(long long px, double ms) {
     const double base = fixedMs + perPixelMs * static_cast<double>(px);
     if (base > 0 && std::isfinite(ms)) scale = (1 - kAlpha) * scale + kAlpha * (ms / base);
+  }
+};
+
+// Estimated cost of drawing hole rectangles (WalkOptions::renderHoles): a
+// running mean of the measured ms per rectangle (exponential average). Its
+// vertex work is what a rectangle's sub-frustum holds, the whole depth of the
+// scene behind a few pixels, so a rectangle costs about the same whatever its
+// size; the mean tracks the scene and the load. The first measurement is
+// left out (the first scissored draw pays for compiling its shaders).
+struct HoleCostModel {
+  static constexpr double kAlpha = 0.25;  // weight of the newest measurement
+  double perRectMs = 0;                   // 0: nothing measured yet
+  int seen = 0;                           // measurements offered, the first ignored
+
+  // The most rectangles whose estimate fits in `ms`; before a measurement,
+  // `wanted` (all of them). At least 1 while any is wanted, so the estimate
+  // keeps learning (one rectangle costs a few percent of a geometry frame).
+  int maxRects(double ms, int wanted) const {
+    if (wanted <= 0) return 0;
+    if (!(perRectMs > 0)) return wanted;
+    if (!(ms > perRectMs)) return 1;
+    const double n = std::floor(ms / perRectMs);
+    return n >= wanted ? wanted : std::max(1, static_cast<int>(n));
+  }
+  void update(int rects, double ms) {
+    if (rects <= 0 || !std::isfinite(ms) || ms < 0) return;
+    if (seen++ == 0) return;
+    const double per = ms / rects;
+    perRectMs = perRectMs > 0 ? (1 - kAlpha) * perRectMs + kAlpha * per : per;
   }
 };
 

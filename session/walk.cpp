@@ -90,7 +90,7 @@ class WalkLoop {
   Status keyframeFrame(int i, int k, json& fj, json& ms);
   Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
   Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
-  Status renderHoles(const Camera& cam, json& fj, json& ms, long long* renderedHoles);
+  Status renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles);
   void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
   void endFrameWork(json& ms, FrameKind kind);
@@ -140,6 +140,7 @@ class WalkLoop {
   std::unique_ptr<AutoFrameBudget> autoBudget_;
   double budgetMs_ = 0;  // this frame's budget (0 = none: no refresh, no pacing)
   RefreshCostModel refreshCost_;
+  HoleCostModel holeCost_;  // renderHoles under renderHolesBudget
   double refreshCalibrationMs_ = 0;
   Image<Rgba8> refreshColour_;
   std::vector<std::uint32_t> tileScores_;
@@ -327,8 +328,8 @@ Status WalkLoop::calibrateModes() {
 
 // The floor says warping may pay: the first keyframe (which the walk then
 // warps) is built now and warped, as both layers (an in-between frame draws
-// two), to the camera half-way through the first segment; that frame's cost,
-// not the floor (which leaves out the scene's mesh: 1.3x below the real cost
+// two), to the camera half-way through the first segment; that frame's cost
+// (with its hole pass, WalkOptions::renderHoles), not the floor (which leaves out the scene's mesh: 1.3x below the real cost
 // indoors, 3-6x on dense outdoor meshes), decides the first segment.
 Status WalkLoop::calibrateWarp() {
   if (frames_ < 2) return {};
@@ -345,8 +346,11 @@ Status WalkLoop::calibrateWarp() {
   double ms = 0;
   for (int rep = 0; rep < 2; ++rep) {
     Stopwatch sw;
-    HW_TRY(step.draw(*warper_, src, &src, cams_[static_cast<std::size_t>(mid)], nullptr, nullptr,
-                     frame_, st));
+    frameSw_.restart();
+    const Camera& cam = cams_[static_cast<std::size_t>(mid)];
+    HW_TRY(step.draw(*warper_, src, &src, cam, nullptr, nullptr, frame_, st));
+    long long drawn = 0;  // the hole pass too (its first, cold draw is this one's to pay)
+    if (opt_.renderHoles) HW_TRY(renderHoles(cam, nullptr, nullptr, &drawn));
     ms = sw.ms();
   }
   warpCalibrationMs_ = ms;
@@ -657,20 +661,34 @@ void WalkLoop::applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& c
 }
 
 // WalkOptions::renderHoles: the hole rectangles (gapfill/hole_rects.h)
-// re-rendered by the geometry renderer. *renderedHoles: the hole pixels
-// (holesBefore) they drew.
-Status WalkLoop::renderHoles(const Camera& cam, json& fj, json& ms, long long* renderedHoles) {
+// re-rendered by the geometry renderer, as many as renderHolesBudget allows.
+// *renderedHoles: the hole pixels (holesBefore) they drew. With `fj` null
+// (the calibration frame) nothing is reported.
+Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles) {
   Stopwatch sw;
   gapfill::holeRects(frame_.holesBefore, WalkOptions::kHoleTilePx,
                      WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, holeRects_,
                      holeScores_);
+  const std::size_t wanted = holeRects_.size();
+  double budgetMs = std::nan("");
+  if (opt_.renderHolesBudget > 0 && wanted > 0) {
+    const double geo = chooser_.geometryMs() > 0 ? chooser_.geometryMs() : currentRefMs_;
+    if (geo > 0) {
+      budgetMs = std::min(opt_.renderHolesBudget * geo, geo - frameSw_.ms());
+      holeRects_.resize(static_cast<std::size_t>(
+          holeCost_.maxRects(budgetMs, static_cast<int>(wanted))));
+    }
+  }
   const std::size_t n = holeRects_.size();
   holeRectPx_.resize(n);
   if (holeColours_.size() < n) holeColours_.resize(n);
   for (std::size_t k = 0; k < n; ++k) holeRectPx_[k] = holeRects_[k].rect;
-  if (n > 0)
+  if (n > 0) {
+    Stopwatch sd;
     HW_TRY(renderer_->renderColourRects(cam, holeRectPx_.data(), static_cast<int>(n),
                                         holeColours_.data()));
+    holeCost_.update(static_cast<int>(n), sd.ms());
+  }
   long long drawn = 0, area = 0;
   for (std::size_t k = 0; k < n; ++k) {
     applyRendered(holeRectPx_[k], holeColours_[k]);
@@ -678,10 +696,13 @@ Status WalkLoop::renderHoles(const Camera& cam, json& fj, json& ms, long long* r
     area += holeRectPx_[k].area();
   }
   *renderedHoles = drawn;
-  ms["render_holes"] = sw.ms();
-  fj["hole_rects"] = holeRects_.size();
-  fj["hole_rect_pixels"] = area;
-  fj["holes_rendered"] = drawn;
+  if (!fj) return {};
+  (*ms)["render_holes"] = sw.ms();
+  (*fj)["hole_rects"] = n;
+  (*fj)["hole_rects_over_budget"] = wanted - n;
+  (*fj)["holes_budget_ms"] = finiteOrNull(budgetMs);
+  (*fj)["hole_rect_pixels"] = area;
+  (*fj)["holes_rendered"] = drawn;
   recorder_.series.holesRenderedPixels.push_back(static_cast<double>(drawn));
   return {};
 }
@@ -721,13 +742,13 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   const double totalMs = total.ms();  // the hole render has its own ms
   ms["total"] = totalMs;
   long long renderedHoles = 0;
-  if (!trackAge_ && opt_.renderHoles) HW_TRY(renderHoles(cam, fj, ms, &renderedHoles));
+  if (!trackAge_ && opt_.renderHoles) HW_TRY(renderHoles(cam, &fj, &ms, &renderedHoles));
   if (trackAge_) {
     Stopwatch sa;
     gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
     ms["age"] = sa.ms();
     if (opt_.renderHoles) {  // after the ages, which go by holesBefore: its pixels get age 0
-      HW_TRY(renderHoles(cam, fj, ms, &renderedHoles));
+      HW_TRY(renderHoles(cam, &fj, &ms, &renderedHoles));
       if (renderedHoles > 0) as = gapfill::ageStats(frame_.age);
     }
     fj["stale_pixels_before_refresh"] = as.stale;
@@ -1013,6 +1034,7 @@ void WalkLoop::summariseLod(json& s) const {
   s["near_distance"] = ib.nearDistance;
   s["fallback"] = gapfill::fallbackName(ib.fallback);
   s["render_holes"] = opt_.renderHoles;
+  s["render_holes_budget"] = opt_.renderHoles ? json(opt_.renderHolesBudget) : json(nullptr);
   s["holes_rendered"] = seriesStats(r.holesRenderedPixels);
   s["reprojected_pixels"] = seriesStats(r.reprojectedPixels);
   s["fallback_ms"] = seriesStats(r.fallbackMs);

@@ -1,5 +1,6 @@
 // AutoFrameBudget (walk --frame-budget-ms auto): nearest-rank quantile over a
 // sliding window of in-between frames' work.
+// HoleCostModel (walk --render-holes-budget): rectangles that fit a budget.
 #include "session/frame_budget.h"
 
 #include <gtest/gtest.h>
@@ -94,6 +95,38 @@ TEST(AutoFrameBudget, BudgetDoesNotReorderTheWindow) {
   EXPECT_EQ(b.budgetMs(), 5.0);
   b.add(4.0);  // drops 5
   EXPECT_EQ(b.budgetMs(), 4.0);
+}
+
+TEST(HoleCostModel, AllRectanglesUntilAMeasurementCounts) {
+  HoleCostModel m;
+  EXPECT_EQ(m.maxRects(0.0, 12), 12);
+  EXPECT_EQ(m.maxRects(5.0, 0), 0);
+  m.update(12, 50.0);  // the first (cold) draw: ignored
+  EXPECT_EQ(m.maxRects(0.5, 12), 12);
+  m.update(10, 2.0);  // 0.2 ms per rectangle
+  EXPECT_DOUBLE_EQ(m.perRectMs, 0.2);
+}
+
+TEST(HoleCostModel, FitsTheBudgetAndKeepsOne) {
+  HoleCostModel m;
+  m.update(1, 1.0);
+  m.update(4, 2.0);  // 0.5 ms each
+  EXPECT_EQ(m.maxRects(1.6, 12), 3);
+  EXPECT_EQ(m.maxRects(100.0, 12), 12);
+  EXPECT_EQ(m.maxRects(0.1, 12), 1);  // over budget: still the one with most holes
+  EXPECT_EQ(m.maxRects(-3.0, 12), 1);
+  EXPECT_EQ(m.maxRects(std::nan(""), 12), 1);
+}
+
+TEST(HoleCostModel, FollowsTheNewestMeasurements) {
+  HoleCostModel m;
+  m.update(1, 1.0);
+  m.update(2, 1.0);  // 0.5
+  m.update(2, 2.0);  // 1.0: 0.75·0.5 + 0.25·1.0
+  EXPECT_DOUBLE_EQ(m.perRectMs, 0.625);
+  m.update(0, 5.0);             // no rectangle: ignored
+  m.update(3, std::nan(""));    // ignored
+  EXPECT_DOUBLE_EQ(m.perRectMs, 0.625);
 }
 
 }  // namespace
