@@ -379,9 +379,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
   addCommon(walk, o.walkC);
   walk->add_option("--preset", o.preset,
                    "Settings to start from: default (measured best on many scenes: --mode auto, "
-                   "--tau-px 0.125, region-local planarity, merged strips, keyframes built ahead) "
-                   "or paper (Zheng et al. 1999 exactly: every frame warped, --tau 2^11, "
-                   "five-point stencil, overlay, no merging, no near geometry, no subdivision); "
+                   "--tau-px 0.125, region-local planarity, merged strips, misfit leaves split, "
+                   "keyframes built ahead, larger holes drawn by the geometry renderer) or paper "
+                   "(Zheng et al. 1999 exactly: every frame warped, --tau 2^11, five-point "
+                   "stencil, overlay, no merging, no near geometry, no subdivision, holes copied "
+                   "from the previous frame); "
                    "options given replace the preset's, except that with paper an option "
                    "departing from the paper is an error (--tau may vary)")
       ->check(CLI::IsMember({"default", "paper"}))
@@ -448,10 +450,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                  "isolated cracks keep the fallback's pixels")
       ->capture_default_str();
   walk->add_option("--render-holes-budget", o.renderHolesBudget,
-                   "With --render-holes: the hole pass may take up to this fraction of a "
-                   "geometry frame's time (measured in this run); rectangles are drawn, most "
-                   "holes first, while their estimated cost fits it and keeps the frame below "
-                   "one geometry frame. 0 = no cap")
+                   "With --render-holes and --mode auto: the hole pass may take up to this "
+                   "fraction of a geometry frame's time (measured in this run); rectangles are "
+                   "drawn, most holes first, while their estimated cost fits it and keeps the "
+                   "frame below one geometry frame. 0 = no cap; --mode hybrid draws every "
+                   "rectangle (frames independent of timings)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   walk->add_option("--texcoords", o.texcoords,

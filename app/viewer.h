@@ -52,6 +52,10 @@ struct ViewerOptions {
   // The keyframes' quad meshes (threshold, planarity test, merging). Baked
   // keyframes keep the database's own.
   keyframe::LodOptions lod;
+  // The larger holes both keyframes miss drawn by the geometry renderer
+  // (session/hole_pass.h), every rectangle found; false: the previous
+  // frame's pixels, as the paper.
+  bool renderHoles = false;
   std::string playPath;           // camera path JSON file; empty: the default path
   bool play = false;              // start by playing the path (loops; any move stops it)
   int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed

@@ -140,6 +140,7 @@ Status PathFrames::inBetweenFrame(int i, int k0, int k1, FrameInfo* info) {
   const NearGeometry near = nearGeometry(k0, k1);
   HW_TRY(step_.draw(*warper_, *sources_[fgFrame], sources_[bgFrame].get(), cam,
                     havePrevious_ ? &previous_ : nullptr, &near, frame_, info->inBetween));
+  if (opt_.renderHoles) HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, {}, &info->holes));
   info->quads = info->inBetween.quads();
   info->nearMs = std::max(0.0, info->inBetween.nearMs);
   return {};

@@ -17,6 +17,7 @@
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 #include "scenes/scene.h"
+#include "session/hole_pass.h"
 #include "session/in_between.h"
 #include "session/walk.h"
 #include "warp/warper.h"
@@ -34,6 +35,7 @@ struct FrameInfo {
   double uploadMs = 0;          // mesh + texture to the GPU
   InBetweenStats inBetween;     // in-between frames only
   double nearMs = 0;            // near objects drawn as geometry (nearDistance > 0)
+  HolePassResult holes;         // renderHoles: the hole rectangles drawn (every one found)
   int quads = 0;                // quads warped, or the shown keyframe's
   double totalMs = 0;           // the whole frame
 };
@@ -42,7 +44,8 @@ class PathFrames {
  public:
   // Needs a current GL context (kept current while this object is used).
   // Uses of `options`: lod, mesh, tileSize, depthMode, inBetween, warp,
-  // keyframeFrames, keyframeCacheBytes, keyframePrefetch; the walk's other
+  // keyframeFrames, keyframeCacheBytes, keyframePrefetch, renderHoles (every
+  // rectangle: renderHolesBudget applies to the walk's auto mode); the walk's other
   // fields (output, reference, budget, async keyframes, sources) are not
   // read. `writeEyeZ`: the warped layers carry eye z (Layer::eyeZ) whatever
   // the composition needs (frames are identical either way). Errors: no
@@ -83,6 +86,7 @@ class PathFrames {
   std::unique_ptr<keyframe::KeyframeCache> cache_;
   std::map<int, std::unique_ptr<warp::WarpSource>> sources_;
   InBetweenStep step_;
+  HolePass holePass_;
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;
   bool writeEyeZ_ = false;

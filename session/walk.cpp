@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,11 +25,11 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "gapfill/age.h"
-#include "gapfill/hole_rects.h"
 #include "keyframe/analytic_scene.h"
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 #include "session/frame_budget.h"
+#include "session/hole_pass.h"
 #include "session/walk_recorder.h"
 
 namespace hw::session {
@@ -91,7 +92,6 @@ class WalkLoop {
   Status inBetweenFrame(int i, int k0, int k1, json& fj, json& ms);
   Status refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStats& as);
   Status renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles);
-  void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
   void endFrameWork(json& ms, FrameKind kind);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
@@ -145,10 +145,7 @@ class WalkLoop {
   Image<Rgba8> refreshColour_;
   std::vector<std::uint32_t> tileScores_;
   std::vector<int> tileOrder_;
-  std::vector<std::uint32_t> holeScores_;
-  std::vector<gapfill::HoleRect> holeRects_;
-  std::vector<keyframe::PixelRect> holeRectPx_;
-  std::vector<Image<Rgba8>> holeColours_;
+  HolePass holePass_;  // renderHoles' rectangles and buffers
   double workBeforeRefreshMs_ = -1;  // this frame's work when a refresh started (-1: none)
 
   std::map<int, std::unique_ptr<warp::WarpSource>> sources_;  // keyframe → GPU copy
@@ -626,7 +623,7 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
     if (workBeforeRefreshMs_ < 0) workBeforeRefreshMs_ = frameSw_.ms();
     Stopwatch one;
     HW_TRY(renderer_->renderColourRect(cam, r, refreshColour_));
-    applyRendered(r, refreshColour_);
+    applyRendered(r, refreshColour_, frame_, step_);
     const double t = one.ms();
     refreshCost_.update(r.area(), t);
     s.refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
@@ -650,60 +647,32 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
   return {};
 }
 
-// A rectangle drawn by the geometry renderer put into the frame (age 0,
-// valid; no longer a large leaf's pixels).
-void WalkLoop::applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour) {
-  gapfill::applyRefresh(r, colour, frame_);
-  const auto w = static_cast<std::size_t>(frame_.colour.width());
-  for (int y = r.y0; y < r.y1; ++y)
-    for (int x = r.x0; x < r.x1; ++x)
-      step_.clearLargeQuad(static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
-}
-
-// WalkOptions::renderHoles: the hole rectangles (gapfill/hole_rects.h)
-// re-rendered by the geometry renderer, as many as renderHolesBudget allows.
-// *renderedHoles: the hole pixels (holesBefore) they drew. With `fj` null
-// (the calibration frame) nothing is reported.
+// WalkOptions::renderHoles (session/hole_pass.h), as many rectangles as
+// renderHolesBudget allows. *renderedHoles: the hole pixels (holesBefore)
+// they drew. With `fj` null (the calibration frame) nothing is reported.
 Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles) {
   Stopwatch sw;
-  gapfill::holeRects(frame_.holesBefore, WalkOptions::kHoleTilePx,
-                     WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, holeRects_,
-                     holeScores_);
-  const std::size_t wanted = holeRects_.size();
   double budgetMs = std::nan("");
-  if (opt_.renderHolesBudget > 0 && wanted > 0) {
+  std::function<int(int)> maxRects;
+  if (opt_.mode == FrameMode::Auto && opt_.renderHolesBudget > 0) {
     const double geo = chooser_.geometryMs() > 0 ? chooser_.geometryMs() : currentRefMs_;
     if (geo > 0) {
       budgetMs = std::min(opt_.renderHolesBudget * geo, geo - frameSw_.ms());
-      holeRects_.resize(static_cast<std::size_t>(
-          holeCost_.maxRects(budgetMs, static_cast<int>(wanted))));
+      maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };
     }
   }
-  const std::size_t n = holeRects_.size();
-  holeRectPx_.resize(n);
-  if (holeColours_.size() < n) holeColours_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) holeRectPx_[k] = holeRects_[k].rect;
-  if (n > 0) {
-    Stopwatch sd;
-    HW_TRY(renderer_->renderColourRects(cam, holeRectPx_.data(), static_cast<int>(n),
-                                        holeColours_.data()));
-    holeCost_.update(static_cast<int>(n), sd.ms());
-  }
-  long long drawn = 0, area = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    applyRendered(holeRectPx_[k], holeColours_[k]);
-    drawn += holeRects_[k].holes;
-    area += holeRectPx_[k].area();
-  }
-  *renderedHoles = drawn;
+  HolePassResult hr;
+  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, maxRects, &hr));
+  if (hr.drawn > 0) holeCost_.update(hr.drawn, hr.drawMs);
+  *renderedHoles = hr.holes;
   if (!fj) return {};
   (*ms)["render_holes"] = sw.ms();
-  (*fj)["hole_rects"] = n;
-  (*fj)["hole_rects_over_budget"] = wanted - n;
+  (*fj)["hole_rects"] = hr.drawn;
+  (*fj)["hole_rects_over_budget"] = hr.wanted - hr.drawn;
   (*fj)["holes_budget_ms"] = finiteOrNull(budgetMs);
-  (*fj)["hole_rect_pixels"] = area;
-  (*fj)["holes_rendered"] = drawn;
-  recorder_.series.holesRenderedPixels.push_back(static_cast<double>(drawn));
+  (*fj)["hole_rect_pixels"] = hr.area;
+  (*fj)["holes_rendered"] = hr.holes;
+  recorder_.series.holesRenderedPixels.push_back(static_cast<double>(hr.holes));
   return {};
 }
 

@@ -119,11 +119,12 @@ struct WalkOptions {
   // left (isolated cracks) keeps the fallback's pixels. false = the paper's
   // (every hole from the fallback).
   bool renderHoles = false;
-  // The hole pass's time cap, as a fraction of a geometry frame's time (the
-  // mode chooser's median, else this frame's reference render): rectangles
-  // are drawn, most holes first, while their estimated cost
-  // (HoleCostModel) fits both this cap and what keeps the whole frame below
-  // one geometry frame. 0 = no cap (every rectangle).
+  // With FrameMode::Auto, the hole pass's time cap, as a fraction of a
+  // geometry frame's time (the mode chooser's median, else this frame's
+  // reference render): rectangles are drawn, most holes first, while their
+  // estimated cost (HoleCostModel) fits both this cap and what keeps the
+  // whole frame below one geometry frame. 0 = no cap. The other modes draw
+  // every rectangle, so their frames do not depend on timings.
   double renderHolesBudget = 0;
   static constexpr int kHoleTilePx = 16;
   static constexpr int kHoleTileMinPixels = 8;

@@ -39,6 +39,7 @@
 #include "keyframe/overlay.h"
 #include "session/frame_budget.h"
 #include "session/frame_mode.h"
+#include "session/hole_pass.h"
 #include "session/in_between.h"
 #include "warp/warper.h"
 
@@ -364,6 +365,7 @@ class Viewer {
   long newestSerialPrev_ = -1;
   bool moving_ = false;
   session::InBetweenStep step_{session::InBetweenOptions{}};  // the walk's in-between step
+  session::HolePass holePass_;  // opt_.renderHoles
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;
   KeyframeStats lastKeyframe_;
@@ -1306,6 +1308,10 @@ Status Viewer::renderHybrid(FrameStats& st) {
   HW_TRY(step_.draw(*warper_, *fg.source,
                     b >= 0 ? slots_[static_cast<std::size_t>(b)].source.get() : nullptr, cam_,
                     havePrevious_ ? &previous_ : nullptr, nullptr, frame_, is));
+  if (opt_.renderHoles) {
+    session::HolePassResult hr;
+    HW_TRY(holePass_.run(*renderer_, cam_, frame_, step_, {}, &hr));
+  }
   st.warpAMs = is.warpAMs;
   st.warpBMs = is.warpBMs + is.readbackMs;
   st.quadsA = is.quadsForeground;
@@ -1807,6 +1813,7 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->mode = walk.mode;
   out->lod = walk.lod;
   out->asyncKeyframes = walk.asyncKeyframes;
+  out->renderHoles = walk.renderHoles;
 }
 
 int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,

@@ -14,8 +14,8 @@ JSON
 common=(--scene indoor:20k --path path.json)
 "$hw" bake "${common[@]}" --out db --quiet >bake.out 2>&1
 rc=$?; check "bake exits 0 ($(tail -1 bake.out))" test $rc -eq 0
-"$hw" walk --mode hybrid "${common[@]}" --keyframes db --save-frames --strips 0 --no-reference --out walk --quiet \
-  >walk.out 2>&1
+"$hw" walk --mode hybrid --no-render-holes "${common[@]}" --keyframes db --save-frames --strips 0 \
+  --no-reference --out walk --quiet >walk.out 2>&1
 rc=$?; check "walk --keyframes exits 0 ($(tail -1 walk.out))" test $rc -eq 0
 
 # 11 frames played: frames 0..10, the last between keyframes 8 and 12.
@@ -34,6 +34,19 @@ echo "viewer frame 10 vs walk frame 10: $(cat cmp.out)"
 check "viewer frame is the walk's, pixel for pixel" grep -q "differing_pixels 0 of 19200" cmp.out
 "$hw" compare shot.png walk/frames/0000.png >cmp0.out 2>&1
 check "  and it moved on from frame 0 ($(cat cmp0.out))" grep -Eq "differing_pixels [1-9]" cmp0.out
+# The default preset warping every frame: the larger holes drawn by the
+# geometry renderer, in the viewer as in the walk.
+"$hw" walk --mode hybrid "${common[@]}" --keyframes db --save-frames --strips 0 --no-reference \
+  --out walkh --quiet >walkh.out 2>&1
+rc=$?; check "walk with holes drawn exits 0 ($(tail -1 walkh.out))" test $rc -eq 0
+"$hw" view "${common[@]}" --mode hybrid --keyframes db --play --exit-after 11 --no-hud \
+  --screenshot shoth.png >viewh.out 2>&1
+rc=$?; check "view --mode hybrid exits 0 ($(tail -1 viewh.out))" test $rc -eq 0
+"$hw" compare shoth.png walkh/frames/0010.png >cmph.out 2>&1
+echo "viewer frame 10 vs walk frame 10, holes drawn: $(cat cmph.out)"
+check "holes drawn: viewer frame is the walk's, pixel for pixel" grep -q "differing_pixels 0 of 19200" cmph.out
+"$hw" compare shoth.png shot.png >cmpp.out 2>&1
+check "  and differs from the frame without them ($(cat cmpp.out))" grep -Eq "differing_pixels [1-9]" cmpp.out
 # Not playing: the viewer stands at the path's first camera, keyframe 0's,
 # and takes the nearest baked keyframe (shown as is) instead of rendering one.
 "$hw" view "${common[@]}" --preset paper --keyframes db --exit-after 3 --no-hud >still.out 2>&1

@@ -208,6 +208,7 @@ TEST(ViewerPresets, PresetsDepartFromThePaperOnlyInWhatTheViewerCarries) {
     rest.mode = paper.mode;
     rest.lod = paper.lod;
     rest.asyncKeyframes = paper.asyncKeyframes;
+    rest.renderHoles = paper.renderHoles;
     const session::PresetConflict c = session::differenceFromPaper(rest);
     EXPECT_TRUE(c.option.empty()) << session::presetName(p) << " sets " << c.option
                                   << ", which the viewer does not carry";
@@ -223,6 +224,7 @@ TEST(ViewerPresets, TheViewerTakesThePresetsModeLodAndWorker) {
     EXPECT_EQ(v.width, 123);
     EXPECT_EQ(v.mode, w.mode) << session::presetName(p);
     EXPECT_EQ(v.asyncKeyframes, w.asyncKeyframes) << session::presetName(p);
+    EXPECT_EQ(v.renderHoles, w.renderHoles) << session::presetName(p);
     EXPECT_EQ(v.lod.tau, w.lod.tau);
     EXPECT_EQ(v.lod.tauParallaxPx, w.lod.tauParallaxPx);
     EXPECT_EQ(v.lod.planarity, w.lod.planarity);
@@ -235,6 +237,7 @@ TEST(ViewerPresets, TheViewerTakesThePresetsModeLodAndWorker) {
   app::applyWalkOptions(session::presetOptions(session::Preset::Paper), &paper);
   EXPECT_EQ(plain.mode, paper.mode);
   EXPECT_EQ(plain.asyncKeyframes, paper.asyncKeyframes);
+  EXPECT_EQ(plain.renderHoles, paper.renderHoles);
   EXPECT_EQ(plain.lod.tau, paper.lod.tau);
   EXPECT_EQ(plain.lod.tauParallaxPx, paper.lod.tauParallaxPx);
 }

@@ -1,0 +1,47 @@
+#include "session/hole_pass.h"
+
+#include "core/timer.h"
+#include "gapfill/age.h"
+#include "session/walk.h"
+
+namespace hw::session {
+
+void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour, gapfill::Frame& frame,
+                   InBetweenStep& step) {
+  gapfill::applyRefresh(r, colour, frame);
+  const auto w = static_cast<std::size_t>(frame.colour.width());
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x)
+      step.clearLargeQuad(static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
+}
+
+Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
+                     InBetweenStep& step, const std::function<int(int)>& maxRects,
+                     HolePassResult* out) {
+  *out = HolePassResult{};
+  gapfill::holeRects(frame.holesBefore, WalkOptions::kHoleTilePx,
+                     WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, rects_, scores_);
+  out->wanted = static_cast<int>(rects_.size());
+  if (maxRects && out->wanted > 0) {
+    const int keep = maxRects(out->wanted);
+    if (keep >= 0 && keep < out->wanted) rects_.resize(static_cast<std::size_t>(keep));
+  }
+  const std::size_t n = rects_.size();
+  px_.resize(n);
+  if (colours_.size() < n) colours_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) px_[k] = rects_[k].rect;
+  if (n > 0) {
+    Stopwatch sd;
+    HW_TRY(renderer.renderColourRects(cam, px_.data(), static_cast<int>(n), colours_.data()));
+    out->drawMs = sd.ms();
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    applyRendered(px_[k], colours_[k], frame, step);
+    out->holes += rects_[k].holes;
+    out->area += px_[k].area();
+  }
+  out->drawn = static_cast<int>(n);
+  return {};
+}
+
+}  // namespace hw::session
