@@ -7,10 +7,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <memory>
 #include <thread>
@@ -326,8 +326,9 @@ Status WalkLoop::calibrateModes() {
 // The floor says warping may pay: the first keyframe (which the walk then
 // warps) is built now and warped, as both layers (an in-between frame draws
 // two), to the camera half-way through the first segment; that frame's cost
-// (with its hole pass, WalkOptions::renderHoles), not the floor (which leaves out the scene's mesh: 1.3x below the real cost
-// indoors, 3-6x on dense outdoor meshes), decides the first segment.
+// (with its hole pass, WalkOptions::renderHoles), not the floor (which leaves
+// out the scene's mesh: 1.3x below the real cost indoors, 3-6x on dense
+// outdoor meshes), decides the first segment.
 Status WalkLoop::calibrateWarp() {
   if (frames_ < 2) return {};
   const int k0 = schedule_.bracket(0).first;
