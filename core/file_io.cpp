@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "core/safe_io.h"
 
@@ -74,12 +76,63 @@ Status writePngGray(const std::string& path, const Image<float>& image, float lo
   return writePng(path, out);
 }
 
+namespace {
+
+// stb_image (libstb-dev 0.0~git20220908, stbi__parse_png_file) copies each
+// IDAT chunk into its buffer with memcpy(idata + off, p, length) and only
+// allocates that buffer for a non-empty chunk, so a PNG whose first IDAT is
+// empty makes it call memcpy(NULL, p, 0): nothing is copied, but it is
+// undefined behaviour and aborts the sanitized builds. An empty IDAT adds
+// nothing to the image (the zlib stream is the concatenation of the IDAT
+// data fields: PNG specification, 2nd edition, 11.2.4), so the decoders
+// below drop such chunks first. Only the chunk framing is read (4-byte
+// big-endian length, type, data, 4-byte CRC); the scan stops at IEND or at
+// the first chunk that does not fit, and stb reports whatever is wrong with
+// the rest. Returns false, leaving *out untouched, when there is no empty
+// IDAT to drop.
+bool dropEmptyPngIdat(const stbi_uc* bytes, std::size_t size, std::string* out) {
+  static constexpr stbi_uc kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size < 8 || std::memcmp(bytes, kSignature, 8) != 0) return false;
+  std::vector<std::pair<std::size_t, std::size_t>> drop;  // [begin, end) byte ranges
+  std::size_t pos = 8;
+  while (size - pos >= 8) {
+    const std::uint32_t length =
+        (std::uint32_t{bytes[pos]} << 24) | (std::uint32_t{bytes[pos + 1]} << 16) |
+        (std::uint32_t{bytes[pos + 2]} << 8) | std::uint32_t{bytes[pos + 3]};
+    const stbi_uc* type = bytes + pos + 4;
+    if (length == 0 && std::memcmp(type, "IDAT", 4) == 0) {
+      const std::size_t end = pos + std::min<std::size_t>(12, size - pos);  // CRC may be cut off
+      drop.emplace_back(pos, end);
+      pos = end;
+      continue;
+    }
+    if (std::memcmp(type, "IEND", 4) == 0 || length > size - pos - 8 || size - pos - 8 - length < 4)
+      break;
+    pos += 12 + static_cast<std::size_t>(length);
+  }
+  if (drop.empty()) return false;
+  out->clear();
+  std::size_t from = 0;
+  for (const auto& [begin, end] : drop) {
+    out->append(reinterpret_cast<const char*>(bytes) + from, begin - from);
+    from = end;
+  }
+  out->append(reinterpret_cast<const char*>(bytes) + from, size - from);
+  return true;
+}
+
+}  // namespace
+
 Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits) {
   auto bytes = readFile(path, limits.maxFileBytes);
   if (!bytes) return bytes.error();
   int w = 0, h = 0, comp = 0;
   if (bytes->size() > static_cast<std::size_t>(INT32_MAX))
     return makeError("cannot decode image " + path + ": larger than 2 GiB");
+  std::string withoutEmptyIdat;
+  if (dropEmptyPngIdat(reinterpret_cast<const stbi_uc*>(bytes->data()), bytes->size(),
+                       &withoutEmptyIdat))
+    bytes->swap(withoutEmptyIdat);
   // Header first: the decoded size is checked before anything is allocated.
   if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
                              static_cast<int>(bytes->size()), &w, &h, &comp))
@@ -115,6 +168,11 @@ Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const st
   if (size == 0 || size > static_cast<std::size_t>(INT32_MAX))
     return makeError("cannot decode image " + what + ": empty or larger than 2 GiB");
   const auto* b = static_cast<const stbi_uc*>(bytes);
+  std::string withoutEmptyIdat;
+  if (dropEmptyPngIdat(b, size, &withoutEmptyIdat)) {
+    b = reinterpret_cast<const stbi_uc*>(withoutEmptyIdat.data());
+    size = withoutEmptyIdat.size();
+  }
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp))
     return makeError("cannot decode image " + what + ": " + stbi_failure_reason());

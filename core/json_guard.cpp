@@ -51,7 +51,8 @@ std::string pathOf(const std::vector<Level>& stack, const std::string& lastKey) 
       p += ']';
     } else {
       if (!p.empty()) p += '.';
-      p += last ? lastKey : l.key;
+      const std::string& k = last ? lastKey : l.key;
+      p += k.empty() ? std::string("\"\"") : k;  // the empty key, visible
     }
   }
   return p;
@@ -64,7 +65,8 @@ Result<nlohmann::json> parseJsonStrict(std::string_view text, const std::string&
   HW_TRY(checkJsonNesting(text, source, maxDepth));
   using Json = nlohmann::json;
   std::vector<Level> stack;
-  std::string duplicate;
+  bool haveDuplicate = false;
+  std::string duplicate;  // path of the first repeated key
   auto elementDone = [&] {
     if (!stack.empty() && stack.back().isArray) ++stack.back().index;
   };
@@ -75,8 +77,10 @@ Result<nlohmann::json> parseJsonStrict(std::string_view text, const std::string&
       case Json::parse_event_t::key: {
         if (stack.empty()) break;
         const std::string k = parsed.is_string() ? parsed.get<std::string>() : parsed.dump();
-        if (!stack.back().keys.insert(k).second && duplicate.empty())
+        if (!stack.back().keys.insert(k).second && !haveDuplicate) {
+          haveDuplicate = true;
           duplicate = pathOf(stack, k);
+        }
         stack.back().key = k;
         break;
       }
@@ -97,7 +101,7 @@ Result<nlohmann::json> parseJsonStrict(std::string_view text, const std::string&
   } catch (const Json::exception& e) {
     return makeError(source + ": invalid JSON: " + e.what());
   }
-  if (!duplicate.empty())
+  if (haveDuplicate)
     return makeError(source + ": " + duplicate +
                      ": duplicate key (each key may appear once in an object; got it twice, and "
                      "which one counts would be a guess)");

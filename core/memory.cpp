@@ -18,6 +18,12 @@ void fixMallocMmapThreshold() {
 #endif
 }
 
+void returnFreeHeapPages() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
 long long residentKiB() {
   std::FILE* f = std::fopen("/proc/self/statm", "r");
   if (!f) return -1;

@@ -12,6 +12,14 @@ namespace hw {
 // user's choice wins). No-op without glibc. Call once, at the start of main.
 void fixMallocMmapThreshold();
 
+// Gives the free pages of every malloc arena back to the kernel (glibc
+// malloc_trim(0): free pages inside the heap as well as its top), so the
+// resident size follows the live heap instead of its high-water mark.
+// Costs a walk over the free lists and one madvise per free run of pages;
+// the pages are faulted back in (zeroed) when next used, so call it where
+// a large transient peak has just ended, not every frame. No-op without glibc.
+void returnFreeHeapPages();
+
 // Resident set size of this process in KiB (/proc/self/statm), or −1 where
 // that is not available.
 long long residentKiB();

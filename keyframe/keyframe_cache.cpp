@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "core/memory.h"
 #include "keyframe/baseline_mesh.h"
 #include "core/timer.h"
 
@@ -159,6 +160,7 @@ void KeyframeCache::evict(const std::vector<int>& keep) {
 }
 
 void KeyframeCache::releaseBefore(int frame) {
+  const std::size_t releasedBefore = released_;
   for (std::size_t i = 0; i < entries_.size();) {
     if (entries_[i]->frame >= frame) {
       ++i;
@@ -167,6 +169,12 @@ void KeyframeCache::releaseBefore(int frame) {
     remove(i);
     ++released_;
   }
+  // Once per keyframe step, after the keyframe's render and mesh build have
+  // freed their temporaries (llvmpipe's bins: MiBs for the largest views)
+  // and the walk has dropped the GPU copies of the keyframes released here:
+  // without it the heap keeps the high-water mark of the largest keyframe
+  // seen (docs/notes/memory.md).
+  if (released_ != releasedBefore) returnFreeHeapPages();
 }
 
 Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {

@@ -124,7 +124,9 @@ class KeyframeCache {
   // Drops the entries of keyframes before `frame` (a walk moving forward
   // calls it with its bracket's first keyframe: no later frame can use them),
   // so the cache holds what can still bracket a frame, not `maxBytes` of the
-  // past. Their buffers are reused for later builds.
+  // past. Their buffers are reused for later builds. When it dropped an
+  // entry it also returns the heap's free pages to the kernel
+  // (core/memory.h returnFreeHeapPages).
   void releaseBefore(int frame);
 
   std::size_t builds() const { return builds_; }        // entries built or taken

@@ -294,6 +294,107 @@ TEST(FileIo, ReadPngErrorsNameTheFile) {
   }
 }
 
+// The PNG chunk `type` with `data`: length, type, data, CRC-32 over type and data.
+std::string pngChunk(const std::string& type, const std::string& data) {
+  auto be32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                       static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  std::uint32_t crc = 0xffffffffu;
+  for (const char c : type + data) {
+    crc ^= static_cast<std::uint8_t>(c);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(~crc);
+}
+
+// Offset of the first chunk of type `type` in a PNG (chunks start at byte 8).
+std::size_t pngChunkOffset(const std::string& png, const std::string& type) {
+  std::size_t pos = 8;
+  while (pos + 8 <= png.size() && png.compare(pos + 4, 4, type) != 0) {
+    const auto* b = reinterpret_cast<const std::uint8_t*>(png.data() + pos);
+    pos += 12 + ((std::size_t{b[0]} << 24) | (std::size_t{b[1]} << 16) | (std::size_t{b[2]} << 8) |
+                 b[3]);
+  }
+  return pos;
+}
+
+// stb_image would call memcpy(NULL, p, 0) on a PNG whose first IDAT chunk is
+// empty (undefined behaviour: the ASan + UBSan build aborts here without the
+// fix in core/file_io.cpp). Empty IDATs carry no data, so the image must
+// decode to the same pixels wherever they sit, and a PNG with no IDAT data
+// at all must be an error that names the file.
+TEST(FileIo, EmptyIdatChunksDecodeLikeNone) {
+  const std::string dir = freshDir();
+  const Image<Rgba8> im = randomRgba(16, 16, 11);
+  const std::string path = dir + "/plain.png";
+  ASSERT_TRUE(writePng(path, im).ok());
+  auto png = readFile(path);
+  ASSERT_TRUE(png.ok());
+  const std::size_t idat = pngChunkOffset(*png, "IDAT");
+  const std::size_t iend = pngChunkOffset(*png, "IEND");
+  ASSERT_LT(idat, iend);
+  ASSERT_EQ(iend + 12, png->size());
+  const std::string empty = pngChunk("IDAT", "");
+  ASSERT_EQ(empty.substr(8), std::string("\x35\xaf\x06\x1e", 4));  // CRC-32 of "IDAT"
+
+  const std::string head = png->substr(0, idat), data = png->substr(idat, iend - idat),
+                    tail = png->substr(iend);
+  const std::pair<const char*, std::string> same[] = {
+      {"first", head + empty + data + tail},
+      {"first-two", head + empty + empty + data + tail},
+      {"around", head + empty + data + empty + tail},
+      {"after", head + data + empty + tail},
+  };
+  for (const auto& [name, bytes] : same) {
+    const std::string file = dir + "/" + name + ".png";
+    writeRaw(file, bytes);
+    auto r = readPng(file);
+    ASSERT_TRUE(r.ok()) << name << ": " << r.error().message;
+    std::string warning;
+    auto t = decodeTexture(bytes.data(), bytes.size(), file, &warning);
+    ASSERT_TRUE(t.ok()) << name << ": " << t.error().message;
+    EXPECT_EQ(warning, "") << name;
+    for (const auto* got : {&*r, &*t}) {
+      ASSERT_EQ(got->width(), 16) << name;
+      ASSERT_EQ(got->height(), 16) << name;
+      for (int i = 0; i < 16 * 16; ++i)
+        ASSERT_EQ(got->data()[i], im.data()[i]) << name << " pixel " << i;
+    }
+  }
+
+  const std::pair<const char*, std::string> broken[] = {
+      {"only-empty", head + empty + tail},
+      {"empty-crc-cut", head + empty.substr(0, 10)},
+      {"empty-no-crc", head + empty.substr(0, 8)},
+  };
+  for (const auto& [name, bytes] : broken) {
+    const std::string file = dir + "/" + name + ".png";
+    writeRaw(file, bytes);
+    auto r = readPng(file);
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_NE(r.error().message.find(file), std::string::npos) << r.error().message;
+    auto t = decodeTexture(bytes.data(), bytes.size(), file, nullptr);
+    ASSERT_FALSE(t.ok()) << name;
+    EXPECT_NE(t.error().message.find(file), std::string::npos) << t.error().message;
+  }
+
+  // Every truncation of the PNG with an empty first IDAT: an error naming
+  // the file, or (missing only the IEND chunk) every pixel.
+  const std::string first = head + empty + data + tail;
+  const std::string cut = dir + "/cut.png";
+  for (std::size_t len = 0; len < first.size(); ++len) {
+    writeRaw(cut, first.substr(0, len));
+    auto r = readPng(cut);
+    if (r.ok()) {
+      ASSERT_GE(len, first.size() - 12) << len;
+      for (int i = 0; i < 16 * 16; ++i) ASSERT_EQ(r->data()[i], im.data()[i]) << len;
+    } else {
+      ASSERT_NE(r.error().message.find(cut), std::string::npos) << len << ": " << r.error().message;
+    }
+  }
+}
+
 TEST(FileIo, WritePngToMissingDirectoryFailsCleanly) {
   const std::string dir = freshDir();
   const std::string path = dir + "/no/such/dir/out.png";

@@ -203,6 +203,19 @@ TEST(JsonGuard, DuplicateKeysAreNamedByTheirPath) {
   ASSERT_FALSE(nested.ok());
   EXPECT_TRUE(contains(nested.error().message, "k[1].e: duplicate key"))
       << nested.error().message;
+  // The empty key is a key like any other (a repeated one was once missed:
+  // its path was the empty string that meant "no duplicate").
+  auto emptyTop = parseJsonStrict(R"({"": 1,"":0e2})", "f.json");
+  ASSERT_FALSE(emptyTop.ok());
+  EXPECT_TRUE(contains(emptyTop.error().message, R"(f.json: "": duplicate key)"))
+      << emptyTop.error().message;
+  auto emptyNested = parseJsonStrict(R"({"k": [{"": 1, "": 2}]})", "f.json");
+  ASSERT_FALSE(emptyNested.ok());
+  EXPECT_TRUE(contains(emptyNested.error().message, R"(k[0]."": duplicate key)"))
+      << emptyNested.error().message;
+  auto emptyOnce = parseJsonStrict(R"({"": 1, "a": {"": 2}})", "f.json");
+  ASSERT_TRUE(emptyOnce.ok()) << emptyOnce.error().message;
+  EXPECT_EQ((*emptyOnce)["a"][""], 2);
   auto bad = parseJsonStrict("{\"a\": ", "f.json");
   ASSERT_FALSE(bad.ok());
   EXPECT_TRUE(contains(bad.error().message, "invalid JSON at byte")) << bad.error().message;
