@@ -125,6 +125,7 @@ int applyPresetCli(const CLI::App* c, const PresetCli& o, session::Preset* prese
   if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
   if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
   if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
+  if (given("--split-misfit") || given("--no-split-misfit")) wo.lod.splitMisfit = o.splitMisfit;
   if (given("--tau-gradient"))
     if (std::string err; !parseTauGradient(o.tauGradient, &wo.lod.tauGradient, &err))
       return fail(err);

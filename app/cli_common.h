@@ -72,7 +72,8 @@ struct FrameBudgetCli {
 // the Default preset's, so --help shows the default; it is read only when its
 // option is given (registered by the command under these names: --preset,
 // --mode, --tau, --tau-px, --criterion, --planarity, --merge-strips /
-// --no-merge-strips, --tau-gradient, --async-keyframes / --sync-keyframes).
+// --no-merge-strips, --split-misfit / --no-split-misfit, --tau-gradient,
+// --async-keyframes / --sync-keyframes).
 struct PresetCli {
   const session::WalkOptions defaults = session::presetOptions(session::Preset::Default);
   std::string preset = session::presetName(session::Preset::Default);
@@ -82,6 +83,7 @@ struct PresetCli {
   std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
   std::string planarity = keyframe::planarityName(defaults.lod.planarity);
   bool mergeStrips = defaults.lod.mergeStrips;
+  bool splitMisfit = defaults.lod.splitMisfit;
   std::string tauGradient = formatNumber(defaults.lod.tauGradient);
   bool asyncKeyframes = defaults.asyncKeyframes;
   static std::string formatNumber(double v);  // "%g"

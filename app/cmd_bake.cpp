@@ -125,41 +125,21 @@ struct BakeCli {
   CLI::App* bakeCmd = nullptr;
   Common bakeC;
   std::string bakeOut;
-  // The walk's presets: the same defaults, so that `walk --keyframes DB`
-  // with the same preset and options finds the database's LOD settings.
-  const keyframe::LodOptions defaults = session::presetOptions(session::Preset::Default).lod;
-  std::string preset = session::presetName(session::Preset::Default);
-  std::string bakeTau = "2^11";
-  std::string bakeCriterion = keyframe::deltaCriterionName(defaults.criterion);
-  std::string bakePlanarity = keyframe::planarityName(defaults.planarity);
-  double bakeTauPx = defaults.tauParallaxPx;
-  bool bakeMerge = defaults.mergeStrips;
+  // The walk's presets and LOD options: the same defaults, so that `walk
+  // --keyframes DB` with the same preset and options finds the database's
+  // LOD settings.
+  PresetCli pc;
   bool bakeQuiet = false;
   int bakePerTask = 8;
   DistributeCli bakeDist;
-  std::string bakeTauGradS = "0";
 };
 
 int run(BakeCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     session::Preset preset = session::Preset::Default;
-    session::parsePreset(o.preset, &preset);  // checked by the option's validator
-    session::WalkOptions wo = session::presetOptions(preset);
-    keyframe::LodOptions& lo = wo.lod;
-    auto given = [&](const char* name) { return o.bakeCmd->count(name) > 0; };
-    if (given("--tau")) {
-      if (!parseTau(o.bakeTau, &lo.tau))
-        return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.bakeTau + "'");
-      lo.tauParallaxPx = 0;
-    }
-    if (given("--tau-px")) lo.tauParallaxPx = o.bakeTauPx;
-    if (given("--criterion")) keyframe::parseDeltaCriterion(o.bakeCriterion.c_str(), &lo.criterion);
-    if (given("--planarity")) keyframe::parsePlanarity(o.bakePlanarity.c_str(), &lo.planarity);
-    if (given("--merge-strips") || given("--no-merge-strips")) lo.mergeStrips = o.bakeMerge;
-    if (preset == session::Preset::Paper && given("--preset"))
-      if (const auto c = session::differenceFromPaper(wo); !c.option.empty())
-        return failUsage(c.option + ": contradicts --preset paper (the paper's: " + c.paperValue +
-                         "); drop one of them");
-    if (std::string err; !parseTauGradient(o.bakeTauGradS, &lo.tauGradient, &err)) return fail(err);
+    session::WalkOptions wo;
+    if (const int code = applyPresetCli(o.bakeCmd, o.pc, &preset, &wo); code != 0) return code;
+    if (const int code = refusePaperDeparture(preset, wo); code != 0) return code;
+    const keyframe::LodOptions& lo = wo.lod;
     return runBake(o.bakeC, lo, o.bakeOut, o.bakePerTask, o.bakeQuiet, o.bakeDist, argc, argv);
 }
 
@@ -175,24 +155,27 @@ void addBakeCommand(CLI::App& app, Commands& commands) {
               "'walk --keyframes DB'; --slurm runs it as a Slurm job array");
   addCommon(bakeCmd, o.bakeC);
   bakeCmd->add_option("--out", o.bakeOut, "Database directory (created)")->required();
-  bakeCmd->add_option("--preset", o.preset, "LOD settings to start from, as for walk: default or paper")
+  bakeCmd->add_option("--preset", o.pc.preset, "LOD settings to start from, as for walk: default or paper")
       ->check(CLI::IsMember({"default", "paper"}))
       ->capture_default_str();
-  bakeCmd->add_option("--tau", o.bakeTau, "LOD threshold in z' units, as for walk; replaces --tau-px");
-  bakeCmd->add_option("--tau-px", o.bakeTauPx, "Parallax threshold in pixels per scene unit, as for walk")
+  bakeCmd->add_option("--tau", o.pc.tau, "LOD threshold in z' units, as for walk; replaces --tau-px");
+  bakeCmd->add_option("--tau-px", o.pc.tauPx, "Parallax threshold in pixels per scene unit, as for walk")
       ->check(CLI::NonNegativeNumber)
       ->excludes("--tau")
       ->capture_default_str();
-  bakeCmd->add_option("--criterion", o.bakeCriterion, "five-point or per-axis-max, as for walk")
+  bakeCmd->add_option("--criterion", o.pc.criterion, "five-point or per-axis-max, as for walk")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
-  bakeCmd->add_option("--planarity", o.bakePlanarity, "stencil or region-local, as for walk")
+  bakeCmd->add_option("--planarity", o.pc.planarity, "stencil or region-local, as for walk")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
-  bakeCmd->add_flag("--merge-strips,!--no-merge-strips", o.bakeMerge,
+  bakeCmd->add_flag("--merge-strips,!--no-merge-strips", o.pc.mergeStrips,
                     "Merge adjacent coplanar leaves, or not, as for walk")
       ->capture_default_str();
-  bakeCmd->add_option("--tau-gradient", o.bakeTauGradS, tauGradientHelp() + "; as for walk")
+  bakeCmd->add_flag("--split-misfit,!--no-split-misfit", o.pc.splitMisfit,
+                    "Cut leaves whose plane misses their pixels, or not, as for walk")
+      ->capture_default_str();
+  bakeCmd->add_option("--tau-gradient", o.pc.tauGradient, tauGradientHelp() + "; as for walk")
       ->capture_default_str();
   bakeCmd->add_option("--keyframes-per-task", o.bakePerTask,
                       "Keyframes per chunk (--slurm array task or --workers process)")

@@ -60,21 +60,14 @@ struct WalkCli {
   Common walkC;
   std::string walkOut = "out/walk";
   // The preset's settings are the defaults; an option given replaces one.
-  const session::WalkOptions defaults = session::presetOptions(session::Preset::Default);
-  std::string preset = session::presetName(session::Preset::Default);
-  std::string mode = session::frameModeName(defaults.mode);
-  std::string tauS = "2^11";
-  std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
+  PresetCli pc;  // --preset, --mode and the LOD options the viewer and bake share
+  const session::WalkOptions& defaults = pc.defaults;
   std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
   std::string fallback = "copy";
   bool renderHoles = defaults.renderHoles;
   double renderHolesBudget = defaults.renderHolesBudget;
   float blendSoftness = 0.05f;
   std::string texcoords = "projective";
-  std::string planarity = keyframe::planarityName(defaults.lod.planarity);
-  bool mergeStrips = defaults.lod.mergeStrips;
-  bool splitMisfit = defaults.lod.splitMisfit;
-  double tauPx = defaults.lod.tauParallaxPx;
   bool noRef = false;
   bool saveFrames = false;
   bool quiet = false;
@@ -88,7 +81,6 @@ struct WalkCli {
   bool cullBg = false;
   int subdivideCell = 16;
   int strips = 4;
-  std::string tauGradS = "0";
   std::string walkKeyframes;
   std::string schedule = "fixed";
   std::string walkPredictor = "holes+distance";
@@ -100,7 +92,6 @@ struct WalkCli {
   double walkCalWindow = 0;
   int walkVerifyRounds = 0;
   double walkVerifyOptimism = 1.0;
-  bool asyncKeyframes = defaults.asyncKeyframes;
   double keyframeCacheMb = 256;
   int keyframePrefetch = 2;
   std::size_t keyframeFlushTriangles = 8192;
@@ -118,23 +109,9 @@ struct WalkCli {
 // --preset paper given, an option that departs from the paper is an error.
 int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
   session::Preset preset = session::Preset::Default;
-  session::parsePreset(o.preset, &preset);  // checked by the option's validator
+  if (const int code = applyPresetCli(o.walk, o.pc, &preset, out); code != 0) return code;
   session::WalkOptions& wo = *out;
-  wo = session::presetOptions(preset);
   auto given = [&](const char* name) { return o.walk->count(name) > 0; };
-  if (given("--mode")) session::parseFrameMode(o.mode, &wo.mode);
-  if (given("--tau")) {
-    if (!parseTau(o.tauS, &wo.lod.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tauS +
-                  "'");
-    wo.lod.tauParallaxPx = 0;  // the threshold in z' units
-  }
-  if (given("--tau-px")) wo.lod.tauParallaxPx = o.tauPx;
-  if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
-  if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
-  if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
-  if (given("--split-misfit") || given("--no-split-misfit")) wo.lod.splitMisfit = o.splitMisfit;
-  if (std::string err; !parseTauGradient(o.tauGradS, &wo.lod.tauGradient, &err)) return fail(err);
   if (given("--compose"))
     gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
   if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
@@ -146,16 +123,11 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
     wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
                           : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
                                                       : warp::Subdivision::None;
-  if (given("--async-keyframes") || given("--sync-keyframes"))
-    wo.asyncKeyframes = o.asyncKeyframes;
-  if (preset == session::Preset::Paper && given("--preset"))
-    if (const auto c = session::differenceFromPaper(wo); !c.option.empty())
-      return failUsage(c.option + ": contradicts --preset paper (the paper's: " + c.paperValue +
-                       "); drop one of them");
+  if (const int code = refusePaperDeparture(preset, wo); code != 0) return code;
   // An adaptive schedule plans keyframes for frames that are all warped.
   if (o.schedule == "adaptive") {
     if (given("--mode") && wo.mode != session::FrameMode::Hybrid)
-      return failUsage("--mode " + o.mode +
+      return failUsage("--mode " + o.pc.mode +
                        ": --schedule adaptive plans keyframes for warped frames; expected "
                        "--mode hybrid (or no --mode)");
     wo.mode = session::FrameMode::Hybrid;
@@ -377,7 +349,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
               "geometry renderer; writes report.json, strips and (optionally) frames");
   addCommon(walk, o.walkC);
-  walk->add_option("--preset", o.preset,
+  walk->add_option("--preset", o.pc.preset,
                    "Settings to start from: default (measured best on many scenes: --mode auto, "
                    "--tau-px 0.125, region-local planarity, merged strips, misfit leaves split, "
                    "keyframes built ahead, larger holes drawn by the geometry renderer) or paper "
@@ -388,42 +360,42 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    "departing from the paper is an error (--tau may vary)")
       ->check(CLI::IsMember({"default", "paper"}))
       ->capture_default_str();
-  walk->add_option("--mode", o.mode,
+  walk->add_option("--mode", o.pc.mode,
                    "How frames are drawn: auto (per keyframe segment, warped or drawn as "
                    "geometry, whichever costs less as measured in this run; geometry when about "
                    "even), hybrid (every frame warped or a keyframe, the paper's) or geometry "
                    "(every frame drawn by the geometry renderer; no keyframes)")
       ->check(CLI::IsMember({"auto", "hybrid", "geometry"}))
       ->capture_default_str();
-  walk->add_option("--tau", o.tauS,
+  walk->add_option("--tau", o.pc.tau,
                    "LOD threshold on |Δ²z'| in z' units (2^24 scale), '2^11' or '2048' form; "
                    "replaces --tau-px (the paper's threshold; --preset paper: 2^11)");
-  walk->add_option("--tau-px", o.tauPx,
+  walk->add_option("--tau-px", o.pc.tauPx,
                    "LOD threshold as parallax error: pixels per scene unit of camera motion (the "
                    "same meaning indoors and out); 0 = use --tau")
       ->check(CLI::NonNegativeNumber)
       ->excludes("--tau")
       ->capture_default_str();
-  walk->add_option("--criterion", o.criterion,
+  walk->add_option("--criterion", o.pc.criterion,
                    "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();
-  walk->add_option("--planarity", o.planarity,
+  walk->add_option("--planarity", o.pc.planarity,
                    "Planarity test: stencil (paper: Δ² stencils reach across region borders) or "
                    "region-local (second differences only inside the region; no one-pixel strips "
                    "along edges)")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
-  walk->add_flag("--merge-strips,!--no-merge-strips", o.mergeStrips,
+  walk->add_flag("--merge-strips,!--no-merge-strips", o.pc.mergeStrips,
                  "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger "
                  "quads, or not")
       ->capture_default_str();
-  walk->add_flag("--split-misfit,!--no-split-misfit", o.splitMisfit,
+  walk->add_flag("--split-misfit,!--no-split-misfit", o.pc.splitMisfit,
                  "Cut a leaf that passed the planarity test but whose least-squares plane "
                  "misses its own pixels (by max(tau/16, 4) z' units), or whose corners cross "
                  "a crease; no mis-warped quads (docs/quad-validation.md), more quads")
       ->capture_default_str();
-  walk->add_option("--tau-gradient", o.tauGradS, tauGradientHelp())->capture_default_str();
+  walk->add_option("--tau-gradient", o.pc.tauGradient, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", o.compose,
                    "Composition: overlay (paper: nearer keyframe in front), depth-merge "
                    "(per-pixel nearer of the two layers) or blend (where both layers see the same "
@@ -577,7 +549,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   addPlannerOptions(walk, o.walkPlan, o.walkPredictor, o.walkPlanBy, false);
-  walk->add_flag("--async-keyframes,!--sync-keyframes", o.asyncKeyframes,
+  walk->add_flag("--async-keyframes,!--sync-keyframes", o.pc.asyncKeyframes,
                  "Render and mesh keyframes ahead of need on a worker thread with a second "
                  "OSMesa context, or when first needed, in the frame that shows them (frames "
                  "are identical; only their timing changes)")

@@ -150,6 +150,12 @@ std::string badQuadCorner(const Quad& q, int width, int height) {
   return "";
 }
 
+// A keyframe file whose size is not the one index.json records.
+Error sizeMismatch(const std::string& path, std::uint64_t want, std::uint64_t have) {
+  return makeError(path + ": " + (have < want ? "truncated" : "grown") + ": index.json says " +
+                   std::to_string(want) + " bytes, file has " + std::to_string(have));
+}
+
 }  // namespace
 
 std::uint64_t hw64(const void* data, std::size_t bytes, std::uint64_t seed) {
@@ -540,10 +546,7 @@ Result<KeyframeDb> KeyframeDb::open(const std::string& dir) {
     const std::string path = dir + "/" + e.file;
     auto size = regularFileSize(path);
     if (!size) return size.error();
-    if (*size != e.bytes)
-      return makeError(path + ": " + (*size < e.bytes ? "truncated" : "grown") +
-                       ": index.json says " + std::to_string(e.bytes) + " bytes, file has " +
-                       std::to_string(*size));
+    if (*size != e.bytes) return sizeMismatch(path, e.bytes, *size);
   }
   std::sort(db.entries_.begin(), db.entries_.end(),
             [](const KeyframeDbEntry& a, const KeyframeDbEntry& b) { return a.frame < b.frame; });
@@ -652,15 +655,10 @@ Status KeyframeDb::read(int frame, CachedKeyframe& out) const {
   auto bytes = readFile(path, it->bytes + 1);
   if (!bytes) {
     auto size = regularFileSize(path);
-    if (size && *size > it->bytes)
-      return makeError(path + ": grown: index.json says " + std::to_string(it->bytes) +
-                       " bytes, file has " + std::to_string(*size));
+    if (size && *size > it->bytes) return sizeMismatch(path, it->bytes, *size);
     return bytes.error();
   }
-  if (bytes->size() != it->bytes)
-    return makeError(path + ": " + (bytes->size() < it->bytes ? "truncated" : "grown") +
-                     ": index.json says " + std::to_string(it->bytes) + " bytes, file has " +
-                     std::to_string(bytes->size()));
+  if (bytes->size() != it->bytes) return sizeMismatch(path, it->bytes, bytes->size());
   HW_TRY(decodeKeyframe(*bytes, path, out));
   const std::uint64_t headerSum = *keyframeFileChecksum(*bytes, path);
   if (headerSum != it->checksum)

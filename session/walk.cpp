@@ -774,9 +774,9 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
 void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
   auto& s = recorder_.series;
   if (opt_.reference) {
-    const double p = psnr(frame_.colour, reference_);
-    const double q = ssim(frame_.colour, reference_);
     const ChannelMse m = channelMse(frame_.colour, reference_);
+    const double p = psnrFromMse(m.mean());  // psnr(), from the same sums
+    const double q = ssim(frame_.colour, reference_);
     fj["psnr"] = finiteOrNull(p);
     fj["ssim"] = q;
     fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
@@ -787,18 +787,18 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     // --render-holes) carry, and the PSNR of the other pixels.
     const std::size_t n = frame_.colour.size();
     if (frame_.holesBefore.size() == n && reference_.size() == n) {
-      const Rgba8* a = frame_.colour.data();
-      const Rgba8* b = reference_.data();
-      const std::uint8_t* stale = frame_.holesBefore.data();
-      double total = 0, staleErr = 0;
-      std::size_t drawn = 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const double dr = a[k].r - b[k].r, dg = a[k].g - b[k].g, db = a[k].b - b[k].b;
-        const double e = dr * dr + dg * dg + db * db;
-        total += e;
-        if (stale[k]) staleErr += e;
-        else ++drawn;
-      }
+      const auto staleCount = static_cast<std::size_t>(
+          std::count_if(frame_.holesBefore.data(), frame_.holesBefore.data() + n,
+                        [](std::uint8_t h) { return h != 0; }));
+      const std::size_t drawn = n - staleCount;
+      // Summed squared errors over R, G, B: integers (channelMse sums exactly),
+      // so the rounding below recovers them.
+      const double total = std::round(3.0 * m.mean() * static_cast<double>(n));
+      const double staleErr =
+          staleCount > 0
+              ? std::round(3.0 * channelMse(frame_.colour, reference_, frame_.holesBefore).mean() *
+                           static_cast<double>(staleCount))
+              : 0.0;
       const double pd =
           drawn > 0 ? psnrFromMse((total - staleErr) / (3.0 * static_cast<double>(drawn)))
                     : std::nan("");
