@@ -69,6 +69,8 @@ int run(BenchCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
       bo.skips.scenes = {{"indoor", ""}};
       bo.sceneTable.cases = {{"indoor:100k", ""}, {"outdoor:100k", ""}};
       bo.sceneTable.frames = 41;
+      bo.disocclusion.cases = {{"indoor", ""}};
+      bo.disocclusion.frames = 41;
     }
     bo.parts = o.benchOnly;
     if (!o.benchSizes.empty()) {
@@ -125,9 +127,11 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                        "cell, on indoor, outdoor, q3:oa_dm5 and torcs:forza; real scenes need "
                        "'scenes fetch --outdoor'), scenes (per scene: the defaults against "
                        "--preset paper: share of frames per mode, frame/geometry ms, PSNR; "
-                       "scenes.md, scenes.csv)")
+                       "scenes.md, scenes.csv), disocclusion (what a third keyframe or depth "
+                       "peeling could add to the holes, against the hole rectangles; "
+                       "disocclusion.csv)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips", "scenes"}));
+      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips", "scenes", "disocclusion"}));
 
   commands.push_back({benchCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }

@@ -4,13 +4,15 @@
 // triangles at the paper's two thresholds; (b) a walkthrough trace — per-frame
 // and per-stage ms with keyframes marked; (c) keyframe spacing — PSNR vs
 // keyframe_every; (d) each skip on and off; (e) per scene, the defaults against
-// the paper's settings (bench/scene_table.h). Writes bench.json, CSVs, PNG plots and index.html.
+// the paper's settings (bench/scene_table.h); (f) what a third keyframe or
+// depth peeling could add to the holes (bench/disocclusion_study.h). Writes bench.json, CSVs, PNG plots and index.html.
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/disocclusion_study.h"
 #include "bench/scene_table.h"
 #include "bench/skip_study.h"
 #include "core/result.h"
@@ -28,8 +30,9 @@ struct BenchOptions {
   std::size_t traceTriangles = 1000000;
   SkipStudyOptions skips;  // part (d)
   SceneTableOptions sceneTable;  // part (e); outDir, progress and GL strings are set from these
+  DisocclusionOptions disocclusion;  // part (f)
   // Parts to run: complexity, trace, spacing (trace and spacing run
-  // together), skips, scenes; empty = all.
+  // together), skips, scenes, disocclusion; empty = all.
   std::vector<std::string> parts;
   bool progress = true;
   std::string glRenderer, glVersion;
