@@ -332,7 +332,9 @@ Status WalkLoop::calibrateModes() {
 Status WalkLoop::calibrateWarp() {
   if (frames_ < 2) return {};
   const int k0 = schedule_.bracket(0).first;
-  if (asyncKf_) HW_TRY(cache_->prefetch(0));
+  // Only k0 (get() requests it from the worker and waits): the keyframes after
+  // it are requested once warping is chosen (warmUp), so that a walk drawn
+  // as geometry does not build them beside its first frames.
   const keyframe::CachedKeyframe* kf = nullptr;
   HW_TRY(getSource(k0, &kf));
   const warp::WarpSource& src = *sources_[k0];
