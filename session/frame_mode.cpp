@@ -79,4 +79,22 @@ bool ModeChooser::warpNext(bool warpingNow, double framesPerSegment) const {
          tail < (warpingNow ? opt_.tailLeaveAbove : opt_.tailEnterBelow) * geometry;
 }
 
+void ModeChooser::addInBetweenMs(double ms) {
+  inBetween_.add(ms);
+  if (!std::isfinite(ms) || ms < 0) return;
+  segmentMinMs_ = segmentFrames_ == 0 ? ms : std::min(segmentMinMs_, ms);
+  ++segmentFrames_;
+}
+
+void ModeChooser::startSegment() {
+  segmentFrames_ = 0;
+  segmentMinMs_ = 0;
+}
+
+bool ModeChooser::giveUp() const {
+  const double geometry = geometryMs();
+  return opt_.giveUpAfter > 0 && segmentFrames_ >= opt_.giveUpAfter && std::isfinite(geometry) &&
+         segmentMinMs_ > opt_.tailLeaveAbove * geometry;
+}
+
 }  // namespace hw::session

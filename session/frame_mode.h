@@ -39,6 +39,13 @@ struct ModeChooserOptions {
   double tailQuantile = 0.9;
   double tailEnterBelow = 1.0;
   double tailLeaveAbove = 1.1;
+  // A warped segment whose first giveUpAfter in-between frames each cost
+  // more than tailLeaveAbove x the geometry frame is given up: its other
+  // frames are drawn as geometry (the keyframes' cost is already paid, the
+  // warps' is not). The prediction that started it was wrong (say, an
+  // optimistic calibration, or a keyframe built on the same cores); without
+  // this, one such segment alone is over 5 % of a 120-frame walk. 0 = never.
+  int giveUpAfter = 2;
 };
 
 // Predicts whether warping a segment of F frames (one keyframe frame and F-1
@@ -51,7 +58,7 @@ class ModeChooser {
   explicit ModeChooser(ModeChooserOptions options = {}) : opt_(options) {}
 
   void addGeometryMs(double ms) { geometry_.add(ms); }    // a geometry render + readback
-  void addInBetweenMs(double ms) { inBetween_.add(ms); }  // an in-between frame's work
+  void addInBetweenMs(double ms);  // an in-between frame's work
   void addKeyframeMs(double ms) { keyframe_.add(ms); }    // a keyframe frame's work
   // A lower bound on an in-between frame's work (a one-quad warp, measured
   // before any keyframe exists): the in-between estimate until one is measured.
@@ -68,6 +75,11 @@ class ModeChooser {
   // Whether the next segment is warped, given whether this one is. Unknown
   // costs keep the current choice.
   bool warpNext(bool warpingNow, double framesPerSegment) const;
+  // A segment starts: giveUp() counts its in-between frames from here.
+  void startSegment();
+  // Whether the warped segment under way should be given up
+  // (ModeChooserOptions::giveUpAfter).
+  bool giveUp() const;
   const ModeChooserOptions& options() const { return opt_; }
 
  private:
@@ -81,6 +93,8 @@ class ModeChooser {
   ModeChooserOptions opt_;
   Window geometry_, inBetween_, keyframe_;
   double floorMs_ = -1;
+  int segmentFrames_ = 0;        // in-between frames since startSegment()
+  double segmentMinMs_ = 0;      // the cheapest of them
 };
 
 }  // namespace hw::session

@@ -131,6 +131,7 @@ class WalkLoop {
   int segmentsSinceProbe_ = 0, geometryProbes_ = 0;
   int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
   int modeSwitches_ = 0;
+  int segmentsGivenUp_ = 0;  // warped segments finished as geometry (ModeChooser::giveUp)
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
   bool builtThisFrame_ = false;
@@ -262,6 +263,7 @@ Status WalkLoop::warmUp() {
     warping_ = chooser_.warpNext(false, segmentLength(0));
     if (warping_) HW_TRY(calibrateWarp());
     decidedAt_ = 0;
+    chooser_.startSegment();
   }
   if (warping_) {
     if (asyncKf_) HW_TRY(cache_->prefetch(frames_ > 1 ? 1 : 0));
@@ -381,6 +383,11 @@ FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
     }
     warping_ = warp;
     decidedAt_ = i;
+    chooser_.startSegment();
+  } else if (opt_.mode == FrameMode::Auto && k0 != k1 && warping_ && chooser_.giveUp()) {
+    warping_ = false;  // the rest of this segment as geometry
+    ++modeSwitches_;
+    ++segmentsGivenUp_;
   }
   if (!warping_ || probe) return FrameKind::Geometry;
   return k0 == k1 ? FrameKind::Keyframe : FrameKind::Warp;
@@ -1125,6 +1132,7 @@ void WalkLoop::summariseModes(json& s) const {
                          {"warp", kindCounts_[1]},
                          {"keyframe", kindCounts_[2]}};
   s["mode_switches"] = modeSwitches_;
+  s["segments_given_up"] = segmentsGivenUp_;
   s["geometry_probes"] = geometryProbes_;
   s["mode_costs"] =
       opt_.mode == FrameMode::Auto

@@ -148,5 +148,37 @@ TEST(ModeChooser, QuantilesInterpolateBetweenOrderStatistics) {
   EXPECT_DOUBLE_EQ(one.inBetweenTailMs(), 7);
 }
 
+TEST(ModeChooser, AWarpedSegmentWhoseFirstFramesAllCostMoreIsGivenUp) {
+  ModeChooser c;
+  c.addGeometryMs(10);
+  c.startSegment();
+  EXPECT_FALSE(c.giveUp());  // nothing measured yet
+  c.addInBetweenMs(30);
+  EXPECT_FALSE(c.giveUp());  // one frame (it may carry an upload) is not enough
+  c.addInBetweenMs(10.5);    // within 1.1 x the geometry frame
+  EXPECT_FALSE(c.giveUp());
+  c.startSegment();
+  c.addInBetweenMs(30);
+  c.addInBetweenMs(11.5);  // both above 11 ms
+  EXPECT_TRUE(c.giveUp());
+  c.addInBetweenMs(4);  // a cheap one later in the segment clears it
+  EXPECT_FALSE(c.giveUp());
+  // A new segment starts counting again; unknown geometry never gives up.
+  c.startSegment();
+  EXPECT_FALSE(c.giveUp());
+  ModeChooser unknown;
+  unknown.addInBetweenMs(100);
+  unknown.addInBetweenMs(100);
+  EXPECT_FALSE(unknown.giveUp());
+  // giveUpAfter 0 turns it off.
+  ModeChooserOptions off;
+  off.giveUpAfter = 0;
+  ModeChooser never(off);
+  never.addGeometryMs(1);
+  never.addInBetweenMs(100);
+  never.addInBetweenMs(100);
+  EXPECT_FALSE(never.giveUp());
+}
+
 }  // namespace
 }  // namespace hw::session
