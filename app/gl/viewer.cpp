@@ -1330,10 +1330,24 @@ Status Viewer::renderHybrid(FrameStats& st) {
 // kAutoMinGeometrySamples geometry renders are known (so that one slow render
 // does not decide), and with keyframes from the worker or a database every
 // kAutoProbeEvery choices, a choice draws one frame as geometry.
+// Between choices, hybrid frames that all cost more than drawing give the
+// segment up at once (ModeChooser::giveUp), as the walk does.
 void Viewer::chooseMode(bool* probe) {
   *probe = false;
-  if (!autoMode_ || ++framesSinceChoice_ < kAutoFrames) return;
+  if (!autoMode_) return;
+  if (++framesSinceChoice_ < kAutoFrames) {
+    if (hybrid_ && chooser_.giveUp()) {
+      hybrid_ = false;
+      havePrevious_ = false;
+      ++autoSwitches_;
+      if (firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
+      message("auto: geometry (hybrid frames cost more; from frame " +
+              std::to_string(frameIndex_) + ")");
+    }
+    return;
+  }
   framesSinceChoice_ = 0;
+  chooser_.startSegment();
   const bool next = chooser_.warpNext(hybrid_, kAutoFrames);
   if (next != hybrid_) {
     hybrid_ = next;
