@@ -56,11 +56,12 @@ struct Variant {
 };
 
 json variantJson(const Variant& v, long long holes) {
-  return {{"psnr", {{"median", finiteOrNull(median(v.psnr))},
-                    {"p5", finiteOrNull(percentile(v.psnr, 5.0))}}},
-          {"psnr_holes_median", finiteOrNull(median(v.psnrHoles))},
-          {"filled_share", holes > 0 ? json(static_cast<double>(v.filled) / holes) : json(nullptr)},
-          {"ms_median", v.ms.empty() ? json(nullptr) : finiteOrNull(median(v.ms))}};
+  return {
+      {"psnr",
+       {{"median", finiteOrNull(median(v.psnr))}, {"p5", finiteOrNull(percentile(v.psnr, 5.0))}}},
+      {"psnr_holes_median", finiteOrNull(median(v.psnrHoles))},
+      {"filled_share", holes > 0 ? json(static_cast<double>(v.filled) / holes) : json(nullptr)},
+      {"ms_median", v.ms.empty() ? json(nullptr) : finiteOrNull(median(v.ms))}};
 }
 
 }  // namespace
@@ -97,8 +98,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
     auto it = built.find(k);
     if (it == built.end()) {
       Built b;
-      HW_TRY(keyframe::buildCachedKeyframe(renderer, builder, spec, cams[static_cast<std::size_t>(k)],
-                                           k, b.kf));
+      HW_TRY(keyframe::buildCachedKeyframe(renderer, builder, spec,
+                                           cams[static_cast<std::size_t>(k)], k, b.kf));
       auto src = warper.upload(b.kf.keyframe, b.kf.mesh);
       if (!src) return src.error();
       b.source = std::move(*src);
@@ -142,8 +143,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
       continue;
     }
     HW_TRY(get(k1, &b));
-    const int fg = gapfill::chooseForeground(cam.eye, a->kf.keyframe.camera.eye,
-                                             b->kf.keyframe.camera.eye);
+    const int fg =
+        gapfill::chooseForeground(cam.eye, a->kf.keyframe.camera.eye, b->kf.keyframe.camera.eye);
     Built* f = fg == 0 ? a : b;
     Built* g = fg == 0 ? b : a;
     session::InBetweenStats st;
@@ -167,7 +168,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
             ++hSky;
           } else {
             const glm::dvec3 p = cam.unproject(x + 0.5, y + 0.5, ref.eyeZ(x, y));
-            const bool seen = insideView(a->kf.keyframe.camera, p) || insideView(b->kf.keyframe.camera, p);
+            const bool seen =
+                insideView(a->kf.keyframe.camera, p) || insideView(b->kf.keyframe.camera, p);
             k = seen ? kOccluded : kOutside;
             ++(seen ? hOcc : hOut);
           }
@@ -188,8 +190,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
       if (ms >= 0) v.ms.push_back(ms);
       return p;
     };
-    json row = {{"frame", i}, {"k0", k0}, {"k1", k1}, {"holes", h}, {"outside", hOut},
-                {"occluded", hOcc}, {"sky", hSky}};
+    json row = {{"frame", i},      {"k0", k0},         {"k1", k1},   {"holes", h},
+                {"outside", hOut}, {"occluded", hOcc}, {"sky", hSky}};
     row["psnr_copy"] = finiteOrNull(score(copy, frame.colour, 0, -1));
 
     // A third keyframe: the one before the pair, then the one after it.
@@ -247,8 +249,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
   });
   order.resize(std::min(order.size(), std::max<std::size_t>(1, order.size() / 10)));
   json worst = json::object();
-  for (const char* key : {"psnr_copy", "psnr_prev", "psnr_next", "psnr_hole_rects", "psnr_peel_bound",
-                          "psnr_exact_holes"}) {
+  for (const char* key : {"psnr_copy", "psnr_prev", "psnr_next", "psnr_hole_rects",
+                          "psnr_peel_bound", "psnr_exact_holes"}) {
     std::vector<double> v;
     for (std::size_t k : order)
       if (rows[k][key].is_number()) v.push_back(rows[k][key].get<double>());
@@ -262,9 +264,11 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
       {"in_between_frames", rows.size()},
       {"keyframe_every", path.keyframeEvery},
       {"resolution", {cams.empty() ? 0 : cams[0].width, cams.empty() ? 0 : cams[0].height}},
-      {"hole_share", {{"median", finiteOrNull(median(holeShare))},
-                      {"p95", finiteOrNull(percentile(holeShare, 95.0))},
-                      {"max", holeShare.empty() ? json(nullptr) : json(*std::max_element(holeShare.begin(), holeShare.end()))}}},
+      {"hole_share",
+       {{"median", finiteOrNull(median(holeShare))},
+        {"p95", finiteOrNull(percentile(holeShare, 95.0))},
+        {"max", holeShare.empty() ? json(nullptr)
+                                  : json(*std::max_element(holeShare.begin(), holeShare.end()))}}},
       {"hole_pixels", holeTotal},
       {"holes_outside_share", holeTotal ? json(outside / ht) : json(nullptr)},
       {"holes_occluded_share", holeTotal ? json(occluded / ht) : json(nullptr)},
@@ -284,9 +288,11 @@ Result<json> runDisocclusionStudy(const DisocclusionOptions& opt) {
   json paths = json::array(), unavailable = json::array();
   for (const DisocclusionCase& c : opt.cases) {
     auto scene = scenes::loadScene(c.spec);
-    auto path = c.pathFile.empty() ? scenes::defaultPathFor(c.spec) : scenes::loadCameraPath(c.pathFile);
+    auto path =
+        c.pathFile.empty() ? scenes::defaultPathFor(c.spec) : scenes::loadCameraPath(c.pathFile);
     if (!scene || !path) {
-      unavailable.push_back({{"scene", c.spec}, {"path", c.pathFile},
+      unavailable.push_back({{"scene", c.spec},
+                             {"path", c.pathFile},
                              {"reason", !scene ? scene.error().message : path.error().message}});
       continue;
     }
@@ -299,9 +305,21 @@ Result<json> runDisocclusionStudy(const DisocclusionOptions& opt) {
 }
 
 std::string disocclusionCsv(const json& study) {
-  static const char* cols[] = {"frame", "k0", "k1", "holes", "outside", "occluded", "sky",
-                               "prev_filled", "next_filled", "psnr_copy", "psnr_prev", "psnr_next",
-                               "psnr_hole_rects", "hole_rects_ms", "psnr_peel_bound",
+  static const char* cols[] = {"frame",
+                               "k0",
+                               "k1",
+                               "holes",
+                               "outside",
+                               "occluded",
+                               "sky",
+                               "prev_filled",
+                               "next_filled",
+                               "psnr_copy",
+                               "psnr_prev",
+                               "psnr_next",
+                               "psnr_hole_rects",
+                               "hole_rects_ms",
+                               "psnr_peel_bound",
                                "psnr_exact_holes"};
   std::string out = "scene,path";
   for (const char* c : cols) out += std::string(",") + c;

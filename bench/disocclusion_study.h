@@ -16,10 +16,9 @@
 // Holes are split by where their surface lies: outside both keyframes' views
 // (new to the eye, as in a sharp turn), inside one of them but hidden or not
 // meshed (disoccluded), or empty (sky).
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
