@@ -928,9 +928,9 @@ Status WalkLoop::frame(int i) {
   // geometry frame they are still allocated: 1–10 MiB, by view) and the
   // heap's free pages are back with the kernel (malloc_trim, as every
   // keyframe step does; geometry stretches drop no keyframe, so nothing
-  // trims there, and async builds finish between trims: up to 4.4 MiB).
+  // trims there, and async builds finish between trims: up to 4.3 MiB).
   // Read without both, the value swung with the frame kinds and the
-  // worker's timing (3–7 % at 64²), not with what the walk keeps. Live
+  // worker's timing (2.3–3.1 % at 64²), not with what the walk keeps. Live
   // memory and what the allocator cannot return count as before, so growth
   // still shows; the keyframe worker's context is not touched (its last
   // piece, ≤ 8192 triangles, still counts). Evidence and the figures
