@@ -17,7 +17,9 @@ void fixMallocMmapThreshold();
 // resident size follows the live heap instead of its high-water mark.
 // Costs a walk over the free lists and one madvise per free run of pages;
 // the pages are faulted back in (zeroed) when next used, so call it where
-// a large transient peak has just ended, not every frame. No-op without glibc.
+// a large transient peak has just ended, not every frame (the walk: at each
+// keyframe step that drops a keyframe, and before each 500-frame resident
+// sample). No-op without glibc.
 void returnFreeHeapPages();
 
 // Resident set size of this process in KiB (/proc/self/statm), or −1 where

@@ -7,8 +7,11 @@
 # sample's frame is interpolated linearly in time between the lines around it).
 #
 # Pass when, after warm-up (the first 10 % of frames), every frame-end RSS
-# sample (the walk records VmRSS after every 500th frame: report.json
-# summary resident_kib_every_500_frames) lies within 5 % of the median of
+# sample (the walk records VmRSS after every 500th frame, right after
+# returning the heap's free pages to the kernel as each keyframe step does:
+# report.json summary resident_kib_every_500_frames; until 2026-12-03 it was
+# read without that trim, see docs/results/2026-12-03/soak/README.md) lies
+# within 5 % of the median of
 # those samples, the walk exits 0, report.json holds one entry per frame and
 # its summary counts 0 OpenGL errors (gl_errors). The samples taken by time
 # (any moment, until the last frame is done) are printed beside them with
@@ -19,8 +22,11 @@
 #
 # Usage: scripts/soak.sh [--hw PROGRAM] [--frames N] [--size WxH] [--laps L]
 #                        [--interval S] [--tolerance PCT] [--out DIR] [--keep]
+#                        [-- WALK-OPTION...]
 # Defaults: build/bin/hybridwalk, 10000 frames, 256x256, 3 laps, 0.2 s, 5 %,
-# a temp dir that is removed unless --keep. Needs python3.
+# a temp dir that is removed unless --keep. Options after `--` are passed to
+# `hybridwalk walk` after the soak's own (diagnostics, e.g. -- --mode hybrid,
+# -- --sync-keyframes). Needs python3.
 set -u
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 hw="$here/build/bin/hybridwalk"
@@ -31,6 +37,7 @@ interval=0.2
 tolerance=5
 out=
 keep=0
+walk_args=()
 while [ $# -gt 0 ]; do
   case $1 in
     --hw) hw=$2; shift 2 ;;
@@ -41,7 +48,8 @@ while [ $# -gt 0 ]; do
     --tolerance) tolerance=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --keep) keep=1; shift ;;
-    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --) shift; walk_args=("$@"); break ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "soak.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -91,10 +99,11 @@ EOF
 [ $? -eq 0 ] || { echo "soak.sh: cannot write the camera path" >&2; exit 1; }
 
 echo "soak: $frames frames at ${width}x${height}, keyframe every 10, $laps laps of the indoor loop; RSS every ${interval} s"
+[ ${#walk_args[@]} -eq 0 ] || echo "soak: walk options added: ${walk_args[*]}"
 start=$(date +%s%N)
 ms() { echo $((($(date +%s%N) - start) / 1000000)); }
 "$hw" walk --scene indoor --path "$work/loop.json" --no-reference --strips 0 --out "$out" \
-  >"$work/stdout" 2>"$work/stderr" </dev/null &
+  ${walk_args[@]+"${walk_args[@]}"} >"$work/stdout" 2>"$work/stderr" </dev/null &
 pid=$!
 : >"$work/samples"
 while kill -0 "$pid" 2>/dev/null; do
@@ -148,8 +157,11 @@ if gl_errors != 0:
 warm = frames // 10
 # Two views of the same memory. Frame ends: the walk's own VmRSS after every
 # 500th frame (summary resident_kib_every_500_frames), taken when the frame's
-# GL work is finished and its temporaries are freed: the steady state, and
-# what the criterion applies to. Any moment: this script's samples every
+# GL work is finished and its temporaries are freed, right after malloc_trim
+# gives the heap's free pages back: live memory (including what llvmpipe
+# still holds of its last scenes) plus what the allocator cannot return, not
+# what the last frames happened to free since the last keyframe step. The
+# steady state, and what the criterion applies to. Any moment: this script's samples every
 # INTERVAL s, which also catch allocations that live only inside one call
 # (llvmpipe binning a keyframe's 92k triangles holds a few MiB for ~10 ms):
 # shown with their largest deviation, for information.
