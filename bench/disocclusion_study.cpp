@@ -33,9 +33,6 @@ struct Built {
   std::unique_ptr<warp::WarpSource> source;
 };
 
-// Where a hole pixel's surface (the reference's, at the frame's camera) lies.
-enum HoleKind : std::uint8_t { kNotHole = 0, kOutside = 1, kOccluded = 2, kSky = 3 };
-
 bool insideView(const Camera& c, const glm::dvec3& p) {
   const ProjectedPoint q = c.project(p);
   return q.zEye > c.nearPlane && q.u >= 0 && q.v >= 0 && q.u < c.width && q.v < c.height;
@@ -108,7 +105,7 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
     *out = &it->second;
     return {};
   };
-  // The keyframe `step` places from k in the schedule (-1: none).
+  // The keyframe `by` places from k in the schedule (-1: none).
   auto neighbour = [&](int k, int by) {
     const auto at = std::find(keys.begin(), keys.end(), k) - keys.begin();
     const auto n = at + by;
@@ -119,7 +116,7 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
   bool havePrevious = false;
   keyframe::Keyframe ref;
   warp::Layer third;
-  Image<std::uint8_t> holes, kind, mask;
+  Image<std::uint8_t> occludedMask, mask;
   Image<Rgba8> filled;
   Variant copy, prev, next, rects, peel, exact;
   long long holeTotal = 0, outside = 0, occluded = 0, sky = 0;
@@ -154,27 +151,25 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
     pairMs.push_back(pairSw.ms());
     HW_TRY(renderer.renderKeyframe(cam, ref));
 
-    // The holes, by where their surface lies.
-    holes = frame.holesBefore;
-    kind.resize(cam.width, cam.height);
+    const Image<std::uint8_t>& holes = frame.holesBefore;
+    occludedMask.resize(cam.width, cam.height);
     long long h = 0, hOut = 0, hOcc = 0, hSky = 0;
+    // The holes, by where the reference's surface there lies: sky, outside
+    // both keyframes' views, or inside one of them (occluded there).
     for (int y = 0; y < cam.height; ++y)
       for (int x = 0; x < cam.width; ++x) {
-        std::uint8_t k = kNotHole;
+        bool occ = false;
         if (holes(x, y)) {
           ++h;
           if (!ref.covered(x, y)) {
-            k = kSky;
             ++hSky;
           } else {
             const glm::dvec3 p = cam.unproject(x + 0.5, y + 0.5, ref.eyeZ(x, y));
-            const bool seen =
-                insideView(a->kf.keyframe.camera, p) || insideView(b->kf.keyframe.camera, p);
-            k = seen ? kOccluded : kOutside;
-            ++(seen ? hOcc : hOut);
+            occ = insideView(a->kf.keyframe.camera, p) || insideView(b->kf.keyframe.camera, p);
+            ++(occ ? hOcc : hOut);
           }
         }
-        kind(x, y) = k;
+        occludedMask(x, y) = occ ? 1 : 0;
       }
     holeTotal += h;
     outside += hOut;
@@ -228,9 +223,7 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
 
     // Upper bounds: exact where a keyframe of the pair sees the surface's
     // place (depth peeling at best), and exact everywhere.
-    mask.resize(cam.width, cam.height);
-    for (std::size_t p = 0; p < kind.size(); ++p) mask.data()[p] = kind.data()[p] == kOccluded;
-    fillMasked(frame.colour, ref.colour, mask, filled);
+    fillMasked(frame.colour, ref.colour, occludedMask, filled);
     row["psnr_peel_bound"] = finiteOrNull(score(peel, filled, hOcc, -1));
     fillMasked(frame.colour, ref.colour, holes, filled);
     row["psnr_exact_holes"] = finiteOrNull(score(exact, filled, h, -1));
@@ -286,18 +279,16 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
 
 Result<json> runDisocclusionStudy(const DisocclusionOptions& opt) {
   json paths = json::array(), unavailable = json::array();
-  for (const DisocclusionCase& c : opt.cases) {
+  for (const SceneCase& c : opt.cases) {
     auto scene = scenes::loadScene(c.spec);
-    auto path =
-        c.pathFile.empty() ? scenes::defaultPathFor(c.spec) : scenes::loadCameraPath(c.pathFile);
+    auto path = c.path.empty() ? scenes::defaultPathFor(c.spec) : scenes::loadCameraPath(c.path);
     if (!scene || !path) {
       unavailable.push_back({{"scene", c.spec},
-                             {"path", c.pathFile},
+                             {"path", c.path},
                              {"reason", !scene ? scene.error().message : path.error().message}});
       continue;
     }
-    auto r = runDisocclusionPath(*scene, c.spec, c.pathFile.empty() ? "default" : c.pathFile, *path,
-                                 opt);
+    auto r = runDisocclusionPath(*scene, c.spec, c.path.empty() ? "default" : c.path, *path, opt);
     if (!r) return r.error();
     paths.push_back(std::move(*r));
   }

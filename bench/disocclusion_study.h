@@ -20,22 +20,19 @@
 #include <string>
 #include <vector>
 
+#include "bench/scene_table.h"
 #include "core/result.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
 
 namespace hw::bench {
 
-struct DisocclusionCase {
-  std::string spec;      // as --scene
-  std::string pathFile;  // camera path JSON; empty = the scene's default path
-};
-
 struct DisocclusionOptions {
-  std::vector<DisocclusionCase> cases{{"indoor", ""},
-                                      {"indoor", "paths/indoor_sharp_turn.json"},
-                                      {"q3:oa_dm5", "paths/oa_dm5.json"},
-                                      {"torcs:forza", "paths/forza.json"}};
+  // Scene and camera path (bench/scene_table.h).
+  std::vector<SceneCase> cases{{"indoor", ""},
+                               {"indoor", "paths/indoor_sharp_turn.json"},
+                               {"q3:oa_dm5", "paths/oa_dm5.json"},
+                               {"torcs:forza", "paths/forza.json"}};
   int frames = 120;           // first frames of each path; 0 = all
   int width = 0, height = 0;  // 0 = the path's
   bool progress = true;
