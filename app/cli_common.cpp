@@ -91,6 +91,12 @@ std::string tauGradientHelp() {
          "at small tau. 0 = off (the fixed tau); suggested " +
          suggestedTauGradient();
 }
+std::string misfitToleranceText() {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "max(tau/%g, %g)", keyframe::kMisfitTauDivisor,
+                keyframe::kMergeNoiseFloor);
+  return buf;
+}
 bool parseTauGradient(const std::string& s, double* out, std::string* err) {
   if (parseTau(s, out)) return true;
   *err = "--tau-gradient: expected a finite non-negative number like " +

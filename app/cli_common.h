@@ -40,6 +40,9 @@ bool parseList(const std::string& s, std::vector<double>* out);
 // --tau-gradient (LodOptions::tauGradient): its help text and its parse.
 std::string suggestedTauGradient();
 std::string tauGradientHelp();
+// "max(tau/D, F)": the automatic split-misfit tolerance in z' units
+// (keyframe::kMisfitTauDivisor, keyframe::kMergeNoiseFloor).
+std::string misfitToleranceText();
 bool parseTauGradient(const std::string& s, double* out, std::string* err);
 
 // LOD options shared by the schedule commands (schedule-study, schedule-oracle).

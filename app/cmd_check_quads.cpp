@@ -237,7 +237,8 @@ void addCheckQuadsCommand(CLI::App& app, Commands& commands) {
       ->capture_default_str();
   cmd->add_option("--misfit-tolerance", o.misfitTolerance,
                   "With the split: largest departure of a leaf's pixels from its plane, in z' "
-                  "units (2^24 scale; 0 = automatic: tau/16, at least 4)")
+                  "units (2^24 scale; 0 = automatic: " +
+                      misfitToleranceText() + ")")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--tolerance-px", o.tolerancePx,

@@ -392,8 +392,10 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       ->capture_default_str();
   walk->add_flag("--split-misfit,!--no-split-misfit", o.pc.splitMisfit,
                  "Cut a leaf that passed the planarity test but whose least-squares plane "
-                 "misses its own pixels (by max(tau/16, 4) z' units), or whose corners cross "
-                 "a crease; no mis-warped quads (docs/quad-validation.md), more quads")
+                 "misses its own pixels (by " +
+                     misfitToleranceText() +
+                     " z' units), or whose corners cross a crease; no mis-warped quads "
+                     "(docs/quad-validation.md), more quads")
       ->capture_default_str();
   walk->add_option("--tau-gradient", o.pc.tauGradient, tauGradientHelp())->capture_default_str();
   walk->add_option("--compose", o.compose,

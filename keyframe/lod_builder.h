@@ -110,10 +110,10 @@ struct LodOptions {
   // max(τ/kMisfitTauDivisor, kMergeNoiseFloor), τ in z' units (after
   // tauParallaxPx). With τ from a parallax bound p (px per scene unit of
   // camera motion) a pixel's residual r in z' units moves it by
-  // p·r/τ px per unit, so τ/16 keeps a leaf within p/16 of its pixels:
-  // 0.008 px per unit at the default p = 0.125, under 1 px up to 120 units
-  // of motion between keyframes (docs/quad-validation.md). Must be finite
-  // and >= 0.
+  // p·r/τ px per unit, so τ/20 keeps a leaf within p/20 of its pixels:
+  // 0.006 px per unit at the default p = 0.125, under 1 px up to 160 units
+  // of sideways motion between keyframes; motion towards a surface
+  // magnifies it (docs/quad-validation.md). Must be finite and >= 0.
   double misfitToleranceZPrime = 0.0;
 };
 
@@ -133,7 +133,7 @@ void computeDepthGradient(ImageView<const double> zPrime, ImageView<const std::u
 double suggestedTauGradient();
 inline constexpr double kMergeNoiseFloor = 4.0;  // z' units
 inline constexpr int kMaxMergeRun = 256;         // leaves per merged run
-inline constexpr double kMisfitTauDivisor = 16.0;  // automatic misfitToleranceZPrime = τ/16
+inline constexpr double kMisfitTauDivisor = 20.0;  // automatic misfitToleranceZPrime = τ/20
 
 // The z'-unit threshold equivalent to a parallax bound p (pixels per scene
 // unit of camera motion) for this camera.
