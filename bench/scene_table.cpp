@@ -64,6 +64,11 @@ std::string fmt(const json& j, const char* f) {
   return b;
 }
 
+// A share in [0, 1] as a whole percentage.
+std::string percent(const json& j) {
+  return j.is_number() ? fmt(json(100.0 * j.get<double>()), "%.0f%%") : "–";
+}
+
 std::string markdown(const json& rows, const std::string& machine) {
   std::ostringstream md;
   md << "Each scene walked with the defaults and with `--preset paper` in one run (" << machine
@@ -81,8 +86,8 @@ std::string markdown(const json& rows, const std::string& machine) {
     for (const char* preset : {"default", "paper"}) {
       const json& p = r[preset];
       md << "| " << r["scene"].get<std::string>() << " | " << r["triangles"].get<std::size_t>()
-         << " | " << preset << " | " << fmt(p["geometry_share"], "%.0f%%") << " / "
-         << fmt(p["warp_share"], "%.0f%%") << " / " << fmt(p["keyframe_share"], "%.0f%%")
+         << " | " << preset << " | " << percent(p["geometry_share"]) << " / "
+         << percent(p["warp_share"]) << " / " << percent(p["keyframe_share"])
          << " | " << fmt(p["frame_over_reference_median"], "%.2f") << " | "
          << fmt(p["frame_over_reference_p95"], "%.2f") << " | " << fmt(p["psnr_median"], "%.2f")
          << " | " << fmt(p["psnr_p5"], "%.2f") << " | "
