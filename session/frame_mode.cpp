@@ -39,17 +39,19 @@ void ModeChooser::Window::add(double ms) {
   n = std::min(n + 1, kWindow);
 }
 
-// Linear interpolation between the order statistics around q (n - 1); the
+// Linear interpolation between the order statistics around q (m - 1); the
 // median of an even count is the mean of the middle two.
-double ModeChooser::Window::quantile(double q) const {
-  if (n == 0) return std::nan("");
-  std::array<double, kWindow> s = v;
-  const auto end = s.begin() + static_cast<std::ptrdiff_t>(n);
-  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(n - 1);
+double ModeChooser::Window::quantile(double q, std::size_t last) const {
+  const std::size_t m = std::min(n, std::max<std::size_t>(last, 1));
+  if (m == 0) return std::nan("");
+  std::array<double, kWindow> s;
+  for (std::size_t k = 0; k < m; ++k) s[k] = v[(next + kWindow - 1 - k) % kWindow];  // newest first
+  const auto end = s.begin() + static_cast<std::ptrdiff_t>(m);
+  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(m - 1);
   const auto lo = static_cast<std::ptrdiff_t>(pos);
   std::nth_element(s.begin(), s.begin() + lo, end);
   const double a = s[static_cast<std::size_t>(lo)];
-  if (lo + 1 >= static_cast<std::ptrdiff_t>(n)) return a;
+  if (lo + 1 >= static_cast<std::ptrdiff_t>(m)) return a;
   const double b = *std::min_element(s.begin() + lo + 1, end);
   return a + (pos - static_cast<double>(lo)) * (b - a);
 }

@@ -46,6 +46,13 @@ struct ModeChooserOptions {
   // optimistic calibration, or a keyframe built on the same cores); without
   // this, one such segment alone is over 5 % of a 120-frame walk. 0 = never.
   int giveUpAfter = 2;
+  // The geometry cost the choice (and the hole budget) compares against:
+  // the median of the last geometryRecent geometry samples of the kWindow
+  // kept. A view that grows heavier (a room opening up ahead) makes the
+  // next segment warp one segment after it shows, not after the median of
+  // the whole window has caught up; the median of a few still ignores one
+  // slow frame. kWindow: the whole window.
+  std::size_t geometryRecent = 5;
 };
 
 // Predicts whether warping a segment of F frames (one keyframe frame and F-1
@@ -64,7 +71,10 @@ class ModeChooser {
   // before any keyframe exists): the in-between estimate until one is measured.
   void setWarpFloorMs(double ms) { floorMs_ = ms; }
 
-  double geometryMs() const { return geometry_.median(); }  // NaN: none yet
+  // What the choice uses: the median of the last options().geometryRecent
+  // geometry samples. NaN: none yet.
+  double geometryMs() const { return geometry_.quantile(0.5, opt_.geometryRecent); }
+  double geometryWindowMs() const { return geometry_.median(); }  // of all kWindow kept
   double inBetweenMs() const;  // measured median, else the floor; NaN: neither
   // The options' tailQuantile of the recent in-between frames, else the floor.
   double inBetweenTailMs() const;
@@ -88,7 +98,9 @@ class ModeChooser {
     std::size_t n = 0, next = 0;
     void add(double ms);
     double median() const { return quantile(0.5); }
-    double quantile(double q) const;  // q in [0, 1]; NaN when empty
+    // q in [0, 1], over the last `last` samples (all kept, at most kWindow);
+    // NaN when empty.
+    double quantile(double q, std::size_t last = kWindow) const;
   };
   ModeChooserOptions opt_;
   Window geometry_, inBetween_, keyframe_;

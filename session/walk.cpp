@@ -1154,7 +1154,9 @@ void WalkLoop::summariseModes(json& s) const {
   s["geometry_probes"] = geometryProbes_;
   s["mode_costs"] =
       opt_.mode == FrameMode::Auto
-          ? json{{"geometry_ms", finiteOrNull(chooser_.geometryMs())},
+          ? json{{"geometry_ms", finiteOrNull(chooser_.geometryWindowMs())},
+                 {"geometry_recent_ms", finiteOrNull(chooser_.geometryMs())},
+                 {"geometry_recent", opt_.modeChooser.geometryRecent},
                  {"in_between_ms", finiteOrNull(chooser_.inBetweenMs())},
                  {"in_between_tail_ms", finiteOrNull(chooser_.inBetweenTailMs())},
                  {"warp_floor_ms", warpFloorMs_ >= 0 ? json(warpFloorMs_) : json(nullptr)},

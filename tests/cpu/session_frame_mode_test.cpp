@@ -180,5 +180,40 @@ TEST(ModeChooser, AWarpedSegmentWhoseFirstFramesAllCostMoreIsGivenUp) {
   EXPECT_FALSE(never.giveUp());
 }
 
+TEST(ModeChooser, GeometryCostFollowsTheLastFewSamples) {
+  // A view that grows heavier: ten geometry frames at 8 ms, then five at
+  // 30 ms. The whole window's median is still 8 ms; the last five say 30.
+  ModeChooser c;
+  for (int i = 0; i < 10; ++i) c.addGeometryMs(8);
+  for (int i = 0; i < 5; ++i) c.addGeometryMs(30);
+  EXPECT_DOUBLE_EQ(c.geometryWindowMs(), 8);
+  EXPECT_DOUBLE_EQ(c.geometryMs(), 30);
+  // A warped frame at 9 ms now pays (9 < 0.75 x 30); by the window it would not.
+  c.addInBetweenMs(9);
+  c.addKeyframeMs(9);
+  EXPECT_TRUE(c.warpNext(false, 10));
+  ModeChooserOptions whole;
+  whole.geometryRecent = ModeChooser::kWindow;
+  ModeChooser w(whole);
+  for (int i = 0; i < 10; ++i) w.addGeometryMs(8);
+  for (int i = 0; i < 5; ++i) w.addGeometryMs(30);
+  w.addInBetweenMs(9);
+  w.addKeyframeMs(9);
+  EXPECT_DOUBLE_EQ(w.geometryMs(), 8);
+  EXPECT_FALSE(w.warpNext(false, 10));
+  // Fewer samples than asked for: the median of those there are; the ring
+  // buffer's wrap keeps the newest.
+  ModeChooser few;
+  few.addGeometryMs(4);
+  few.addGeometryMs(6);
+  EXPECT_DOUBLE_EQ(few.geometryMs(), 5);
+  for (std::size_t i = 0; i < ModeChooser::kWindow + 3; ++i) few.addGeometryMs(100);
+  few.addGeometryMs(1);
+  few.addGeometryMs(2);
+  few.addGeometryMs(3);
+  EXPECT_DOUBLE_EQ(few.geometryMs(), 3);  // 100, 100, 1, 2, 3
+}
+
+
 }  // namespace
 }  // namespace hw::session
