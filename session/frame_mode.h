@@ -57,8 +57,9 @@ struct ModeChooserOptions {
 
 // Predicts whether warping a segment of F frames (one keyframe frame and F-1
 // in-between frames) costs less per frame than drawing those frames as
-// geometry. Costs are the medians of the last kWindow samples of each kind
-// (ms of frame work at the walk's resolution). Allocation-free.
+// geometry. Costs are the medians of the last kWindow samples of each kind,
+// the geometry's of its last ModeChooserOptions::geometryRecent (ms of frame
+// work at the walk's resolution). Allocation-free.
 class ModeChooser {
  public:
   static constexpr std::size_t kWindow = 15;

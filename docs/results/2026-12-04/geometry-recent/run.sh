@@ -1,7 +1,7 @@
 #!/bin/bash
 # old vs new chooser (geometry estimate: median of 15 vs of the last 5), default preset, 2 passes alternating
 # Usage: run.sh OUT (old program at /tmp/hw_old, the new one at build/bin/hybridwalk);
-# table.py reads /tmp/gr.
+# table.py prints table.md from /tmp/gr (the default OUT).
 cd "$(dirname "$0")/../../../.."; export LP_NUM_THREADS=2; out=${1:-/tmp/gr}
 for pass in 1 2; do
 for c in "indoor|" "indoor:1M|" "outdoor:100k|" "q3:oa_dm5|paths/oa_dm5.json" "q3:aggressor|paths/aggressor.json" "q3:delta|paths/delta.json" "torcs:forza|paths/forza.json" "torcs:e-track-2|paths/e-track-2.json" "morse:land-1/trees|paths/trees.json"; do
