@@ -93,6 +93,10 @@ class GeometryRenderer {
   // contexts share for one piece at a time, and can be paced between pieces.
   // Renderers without pieces ignore it.
   virtual void setFlushEvery(std::size_t /*triangles*/, std::function<void()> /*afterFlush*/) {}
+  // The triangles renderColour at `camera` would draw (RenderStats::
+  // trianglesDrawn), counted on the CPU by the same culling, without drawing:
+  // what a geometry frame of that view costs is predicted from it.
+  virtual std::size_t visibleTriangles(const Camera& camera) const = 0;
   virtual std::size_t sceneTriangles() const = 0;
   virtual std::size_t sceneClusters() const = 0;
   virtual const RenderOptions& options() const = 0;

@@ -53,29 +53,52 @@ struct ModeChooserOptions {
   // the whole window has caught up; the median of a few still ignores one
   // slow frame. kWindow: the whole window.
   std::size_t geometryRecent = 5;
+  // The geometry cost of the view being decided, predicted from the
+  // triangles it draws (GeometryRenderer::visibleTriangles) and the kWindow
+  // geometry samples kept with their own triangle counts: interpolated
+  // between the samples nearest below and above in triangles; above them in
+  // proportion to the nearest, below them half its cost fixed and half in
+  // proportion. A heavy stretch of the walk then no longer
+  // stands for the lighter views after it (the samples keep their triangle
+  // counts), and a view that grows heavier is seen before it is drawn.
+  // false, or no triangle counts: the median of the last geometryRecent.
+  bool geometryByTriangles = true;
 };
 
 // Predicts whether warping a segment of F frames (one keyframe frame and F-1
 // in-between frames) costs less per frame than drawing those frames as
-// geometry. Costs are the medians of the last kWindow samples of each kind,
-// the geometry's of its last ModeChooserOptions::geometryRecent (ms of frame
-// work at the walk's resolution). Allocation-free.
+// geometry. Costs are the medians of the last kWindow samples of each kind
+// (ms of frame work at the walk's resolution); the geometry's is the view's,
+// from its triangles (ModeChooserOptions::geometryByTriangles), else the
+// median of its last geometryRecent. Allocation-free.
 class ModeChooser {
  public:
   static constexpr std::size_t kWindow = 15;
   explicit ModeChooser(ModeChooserOptions options = {}) : opt_(options) {}
 
-  void addGeometryMs(double ms) { geometry_.add(ms); }    // a geometry render + readback
+  // A geometry render + readback, of a view drawing `triangles` (< 0: not known).
+  void addGeometryMs(double ms, double triangles = -1) { geometry_.add(ms, triangles); }
   void addInBetweenMs(double ms);  // an in-between frame's work
   void addKeyframeMs(double ms) { keyframe_.add(ms); }    // a keyframe frame's work
   // A lower bound on an in-between frame's work (a one-quad warp, measured
   // before any keyframe exists): the in-between estimate until one is measured.
   void setWarpFloorMs(double ms) { floorMs_ = ms; }
 
-  // What the choice uses: the median of the last options().geometryRecent
-  // geometry samples. NaN: none yet.
-  double geometryMs() const { return geometry_.quantile(0.5, opt_.geometryRecent); }
+  // The view the next choice is for draws `triangles` (< 0: not known).
+  void setViewTriangles(double triangles) { viewTriangles_ = triangles; }
+  double viewTriangles() const { return viewTriangles_; }
+  // What the choice (and the hole budget) uses: geometryAtTriangles of the
+  // view when options().geometryByTriangles and both are known, else
+  // geometryRecentMs(). NaN: no sample yet.
+  double geometryMs() const;
+  // The median of the last options().geometryRecent geometry samples.
+  double geometryRecentMs() const { return geometry_.quantile(0.5, opt_.geometryRecent); }
   double geometryWindowMs() const { return geometry_.median(); }  // of all kWindow kept
+  // A geometry frame's ms for a view of `triangles`, from the samples kept
+  // with triangle counts (ModeChooserOptions::geometryByTriangles). Samples
+  // within 2 % of the nearest count on a side count as one, their median.
+  // NaN: no such sample, or triangles < 0.
+  double geometryAtTriangles(double triangles) const;
   double inBetweenMs() const;  // measured median, else the floor; NaN: neither
   // The options' tailQuantile of the recent in-between frames, else the floor.
   double inBetweenTailMs() const;
@@ -96,8 +119,9 @@ class ModeChooser {
  private:
   struct Window {
     std::array<double, kWindow> v{};
+    std::array<double, kWindow> tri{};  // the sample's triangles (< 0: not known)
     std::size_t n = 0, next = 0;
-    void add(double ms);
+    void add(double ms, double triangles = -1);
     double median() const { return quantile(0.5); }
     // q in [0, 1], over the last `last` samples (all kept, at most kWindow);
     // NaN when empty.
@@ -106,6 +130,7 @@ class ModeChooser {
   ModeChooserOptions opt_;
   Window geometry_, inBetween_, keyframe_;
   double floorMs_ = -1;
+  double viewTriangles_ = -1;
   int segmentFrames_ = 0;        // in-between frames since startSegment()
   double segmentMinMs_ = 0;      // the cheapest of them
 };

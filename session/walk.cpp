@@ -86,6 +86,7 @@ class WalkLoop {
   Status calibrateWarp();
   void chooseStripFrames();
   FrameKind chooseKind(int i, int k0, int k1);
+  bool segmentKeyframesReady(int k) const;
   int segmentLength(int k) const;
   Status frame(int i);
   Status geometryFrame(int i, json& fj, json& ms);
@@ -132,9 +133,11 @@ class WalkLoop {
   int segmentsSinceProbe_ = 0, geometryProbes_ = 0;
   int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
   int modeSwitches_ = 0;
-  int segmentsGivenUp_ = 0;  // warped segments finished as geometry (ModeChooser::giveUp)
+  int segmentsGivenUp_ = 0;
+  int warpStartsDeferred_ = 0;  // segments left as geometry while their keyframes were building  // warped segments finished as geometry (ModeChooser::giveUp)
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
+  double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
   bool builtThisFrame_ = false;
 
   // Frame budget and refresh.
@@ -306,7 +309,8 @@ Status WalkLoop::calibrateModes() {
   const Camera& cam = cams_[0];
   keyframe::RenderStats rs;
   for (int rep = 0; rep < 2; ++rep) HW_TRY(renderer_->renderColour(cam, reference_, &rs));
-  chooser_.addGeometryMs(rs.drawMs + rs.readbackMs);
+  chooser_.addGeometryMs(rs.drawMs + rs.readbackMs, static_cast<double>(rs.trianglesDrawn));
+  chooser_.setViewTriangles(static_cast<double>(rs.trianglesDrawn));
   keyframe::AnalyticScene room;
   const double r = std::clamp(cam.nearPlane * 50, cam.nearPlane * 2, cam.farPlane * 0.5);
   room.boxes.push_back({cam.eye - glm::dvec3(r), cam.eye + glm::dvec3(r), Rgba8{128, 128, 128, 255}});
@@ -362,6 +366,15 @@ Status WalkLoop::calibrateWarp() {
   return {};
 }
 
+// Whether the keyframes of the segment starting at keyframe k are built
+// (cached, or done by the worker).
+bool WalkLoop::segmentKeyframesReady(int k) const {
+  const int k1 = k + 1 < frames_ ? schedule_.bracket(k + 1).second : k;
+  for (int f : {k, k1})
+    if (!cache_->contains(f) && !(kfWorker_ && kfWorker_->ready(f))) return false;
+  return true;
+}
+
 // Frames from keyframe k to the next keyframe (1 for the last frame).
 int WalkLoop::segmentLength(int k) const {
   return k + 1 < frames_ ? schedule_.bracket(k + 1).second - k : 1;
@@ -371,8 +384,25 @@ int WalkLoop::segmentLength(int k) const {
 // schedule, for the segment that starts there, whether to warp it.
 FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
   bool probe = false;
+  chooseMs_ = 0;
+  if (opt_.mode == FrameMode::Auto) {
+    // The geometry cost the choice compares against is this view's
+    // (ModeChooserOptions::geometryByTriangles); counting is frame work.
+    Stopwatch sw;
+    chooser_.setViewTriangles(
+        static_cast<double>(renderer_->visibleTriangles(cams_[static_cast<std::size_t>(i)])));
+    chooseMs_ = sw.ms();
+  }
   if (opt_.mode == FrameMode::Auto && k0 == k1 && i != decidedAt_) {
-    const bool warp = chooser_.warpNext(warping_, segmentLength(i));
+    bool warp = chooser_.warpNext(warping_, segmentLength(i));
+    // Warping starts only on keyframes built ahead: a keyframe frame that
+    // waits for its build costs a geometry render and the LOD build in one
+    // frame. The geometry frames before asked for them; until they are
+    // done, this segment is drawn as geometry too.
+    if (warp && !warping_ && asyncKf_ && !segmentKeyframesReady(i)) {
+      warp = false;
+      ++warpStartsDeferred_;
+    }
     modeSwitches_ += warp != warping_;
     // Warping with keyframes from elsewhere, no frame measures the geometry:
     // every kProbeEvery warped segments one starts with a geometry frame.
@@ -452,7 +482,9 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
   const auto& ms = (*kf)->mesh.stats;
   // A keyframe rendered here is a geometry frame's cost (plus its depth
   // readback); one from the worker or a database is not.
-  if (!asyncKf_ && !opt_.keyframeSource) chooser_.addGeometryMs((*kf)->renderMs);
+  if (!asyncKf_ && !opt_.keyframeSource)
+    chooser_.addGeometryMs((*kf)->renderMs,
+                           static_cast<double>(renderer_->visibleTriangles((*kf)->keyframe.camera)));
   s.keyframeMs.push_back((*kf)->renderMs + ms.deltaMs + ms.subdivideMs + ms.cornersMs +
                          ws.uploadMs);
   s.quadsPerKeyframe.push_back(static_cast<double>(ms.quads));
@@ -485,7 +517,7 @@ void WalkLoop::endFrameWork(json& ms, FrameKind kind) {
     ms["keyframe_slice"] = slice;
     s.sliceMs.push_back(slice);
   }
-  const double work = frameSw_.ms();
+  const double work = frameSw_.ms() + chooseMs_;
   ms["frame"] = work;
   if (kfWorker_) ms["keyframe_worker"] = kfWorker_->workerMsSinceTick();
   const bool budgeted = budgetOn_ && budgetMs_ > 0;
@@ -524,7 +556,7 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
     frame_.camera = cam;
   }
   const double renderMs = rs.drawMs + rs.readbackMs;
-  chooser_.addGeometryMs(renderMs);
+  chooser_.addGeometryMs(renderMs, static_cast<double>(rs.trianglesDrawn));
   ms["geometry"] = renderMs;
   ms["total"] = renderMs;
   if (opt_.reference) {
@@ -1151,11 +1183,17 @@ void WalkLoop::summariseModes(json& s) const {
                          {"keyframe", kindCounts_[2]}};
   s["mode_switches"] = modeSwitches_;
   s["segments_given_up"] = segmentsGivenUp_;
+  s["warp_starts_deferred"] = warpStartsDeferred_;
   s["geometry_probes"] = geometryProbes_;
   s["mode_costs"] =
       opt_.mode == FrameMode::Auto
           ? json{{"geometry_ms", finiteOrNull(chooser_.geometryWindowMs())},
-                 {"geometry_recent_ms", finiteOrNull(chooser_.geometryMs())},
+                 {"geometry_recent_ms", finiteOrNull(chooser_.geometryRecentMs())},
+                 {"geometry_by_triangles", opt_.modeChooser.geometryByTriangles},
+                 {"view_triangles", chooser_.viewTriangles() >= 0
+                                        ? json(chooser_.viewTriangles())
+                                        : json(nullptr)},
+                 {"geometry_view_ms", finiteOrNull(chooser_.geometryMs())},
                  {"geometry_recent", opt_.modeChooser.geometryRecent},
                  {"in_between_ms", finiteOrNull(chooser_.inBetweenMs())},
                  {"in_between_tail_ms", finiteOrNull(chooser_.inBetweenTailMs())},

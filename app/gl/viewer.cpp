@@ -182,6 +182,7 @@ struct KeyframeStats {
   bool fromWorker = false;  // built by the keyframe worker (its render and LOD ms)
   double renderMs = 0, lodMs = 0, uploadMs = 0;
   int quads = 0;
+  std::size_t triangles = 0;  // built here: what its render drew
 };
 
 struct FrameStats {
@@ -1017,9 +1018,11 @@ Camera Viewer::beyondCamera(const Camera& newest, double spacing, double distanc
 
 Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
   Stopwatch sw;
-  HW_TRY(renderer_->renderKeyframe(cam, slot.kf));
+  keyframe::RenderStats rs;
+  HW_TRY(renderer_->renderKeyframe(cam, slot.kf, &rs));
   lastKeyframe_.fromDb = false;
   lastKeyframe_.renderMs = sw.lap();
+  lastKeyframe_.triangles = rs.trianglesDrawn;
   HW_TRY(lod_.build(slot.kf, lodOptions_, &slot.mesh));
   lastKeyframe_.lodMs = sw.lap();
   lastKeyframe_.fromWorker = false;
@@ -1335,6 +1338,8 @@ Status Viewer::renderHybrid(FrameStats& st) {
 void Viewer::chooseMode(bool* probe) {
   *probe = false;
   if (!autoMode_) return;
+  // The geometry cost compared against is this view's (ModeChooserOptions::geometryByTriangles).
+  chooser_.setViewTriangles(static_cast<double>(renderer_->visibleTriangles(cam_)));
   if (++framesSinceChoice_ < kAutoFrames) {
     if (hybrid_ && chooser_.giveUp()) {
       hybrid_ = false;
@@ -1368,12 +1373,12 @@ void Viewer::recordCost(const FrameStats& st, double workMs) {
   // A keyframe rendered in the frame is a geometry render too (colour and
   // depth; the walk counts it so).
   if (st.builtKeyframe) {
-    chooser_.addGeometryMs(lastKeyframe_.renderMs);
+    chooser_.addGeometryMs(lastKeyframe_.renderMs, static_cast<double>(lastKeyframe_.triangles));
     ++geometrySamples_;
   }
   switch (st.kind()) {
     case session::FrameKind::Geometry:
-      chooser_.addGeometryMs(st.geometryMs);
+      chooser_.addGeometryMs(st.geometryMs, static_cast<double>(st.trianglesDrawn));
       ++geometrySamples_;
       break;
     case session::FrameKind::Keyframe: chooser_.addKeyframeMs(workMs); break;

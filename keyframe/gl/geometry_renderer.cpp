@@ -268,6 +268,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
     afterFlush_ = std::move(afterFlush);
   }
 
+  std::size_t visibleTriangles(const Camera& camera) const override {
+    std::size_t indices = 0;
+    visitItems(frustumPlanes(viewProjection(camera)), nullptr,
+               [&](const DrawItem&, std::size_t, std::size_t count, std::size_t) { indices += count; });
+    return indices / 3;
+  }
   std::size_t sceneTriangles() const override { return triangles_; }
   std::size_t sceneClusters() const override { return clusters_.size(); }
   const RenderOptions& options() const override { return options_; }
@@ -315,24 +321,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
     }
   };
 
-  // With `rects`: only their pixels are cleared and drawn (scissor test), one
-  // after the other, meshes culled against each one's sub-frustum; one
-  // glFinish for all of them.
-  Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr,
-              const PixelRect* rects = nullptr, int rectCount = 0) {
-    HW_TRY(ensureFbo(camera.width, camera.height));
-    Stopwatch sw;
-    // The product is formed in double and rounded to float once. Float is
-    // enough for the vertex stage: scene vertices are float in
-    // every source format, and the shader's float uViewProj·aPos errs by
-    // ≲ 2·2^-24·(|p| + |eye|) ≈ 3e-4 units at the largest scene's 2,400 units
-    // from the origin (torcs:forza), ≤ 3e-4·f/z px = 0.07 px at z = 2 for
-    // f = 443 px (512 px, 60°), 0.27 px at a 0.5 near plane; ≤ 0.04 px at
-    // their near planes in the other scenes (indoor 33, oa_dm5 35, morse 75,
-    // outdoor 160 units from the origin).
-    // Depth precision is the depth mode's business (camera.h, stress suite).
-    const glm::dmat4 vp = camera.projectionMatrix(options_.depthMode) * camera.viewMatrix();
-    const glm::mat4 vpf(vp);
+  glm::dmat4 viewProjection(const Camera& camera) const {
+    return camera.projectionMatrix(options_.depthMode) * camera.viewMatrix();
+  }
+
+  // The view frustum's planes (Gribb-Hartmann) from a double view-projection.
+  std::array<glm::dvec4, 6> frustumPlanes(const glm::dmat4& vp) const {
     std::array<glm::dvec4, 6> planes;
     const glm::dmat4 t = glm::transpose(vp);
     planes[0] = t[3] + t[0];
@@ -351,6 +345,29 @@ class GlGeometryRenderer final : public GeometryRenderer {
       planes[4] = t[2] + (1.0 + kDepthSlack) * t[3];
       planes[5] = (1.0 + kDepthSlack) * t[3] - t[2];
     }
+    return planes;
+  }
+
+  // With `rects`: only their pixels are cleared and drawn (scissor test), one
+  // after the other, meshes culled against each one's sub-frustum; one
+  // glFinish for all of them.
+  Status draw(const Camera& camera, RenderStats& stats, const NearFilter* filter = nullptr,
+              const PixelRect* rects = nullptr, int rectCount = 0) {
+    HW_TRY(ensureFbo(camera.width, camera.height));
+    Stopwatch sw;
+    // The product is formed in double and rounded to float once. Float is
+    // enough for the vertex stage: scene vertices are float in
+    // every source format, and the shader's float uViewProj·aPos errs by
+    // ≲ 2·2^-24·(|p| + |eye|) ≈ 3e-4 units at the largest scene's 2,400 units
+    // from the origin (torcs:forza), ≤ 3e-4·f/z px = 0.07 px at z = 2 for
+    // f = 443 px (512 px, 60°), 0.27 px at a 0.5 near plane; ≤ 0.04 px at
+    // their near planes in the other scenes (indoor 33, oa_dm5 35, morse 75,
+    // outdoor 160 units from the origin).
+    // Depth precision is the depth mode's business (camera.h, stress suite).
+    const glm::dmat4 vp = viewProjection(camera);
+    const glm::mat4 vpf(vp);
+    const glm::dmat4 t = glm::transpose(vp);
+    const std::array<glm::dvec4, 6> planes = frustumPlanes(vp);
     program_.use();
     glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, glm::value_ptr(vpf));
     glUniform1i(uTex_, 0);
@@ -399,6 +416,17 @@ class GlGeometryRenderer final : public GeometryRenderer {
   // culled, near-filtered.
   void drawItems(const std::array<glm::dvec4, 6>& planes, const NearFilter* filter,
                  RenderStats& stats) {
+    visitItems(planes, filter,
+               [&](const DrawItem& d, std::size_t first, std::size_t count, std::size_t clusters) {
+                 drawRange(d, first, count, clusters, stats);
+               });
+  }
+
+  // The ranges drawItems draws, in its order: visit(item, firstIndex,
+  // indexCount, clusters) for each.
+  template <typename Visit>
+  void visitItems(const std::array<glm::dvec4, 6>& planes, const NearFilter* filter,
+                  Visit&& visit) const {
     for (const DrawItem& d : items_) {
       Side side = Side::Inside;
       if (options_.frustumCulling) {
@@ -411,11 +439,11 @@ class GlGeometryRenderer final : public GeometryRenderer {
       if (filter && !meshNear && filter->mode == NearFilter::Only) continue;
       if (!options_.clusterCulling) {
         if (filter && filter->skip(d.all.lo, d.all.hi)) continue;
-        drawRange(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin, stats);
+        visit(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin);
         continue;
       }
       if (side == Side::Inside && !meshNear) {
-        drawRange(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin, stats);
+        visit(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin);
         continue;
       }
       // Consecutive clusters drawn go out as one draw, so the triangles keep
@@ -431,12 +459,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
           ++runClusters;
           continue;
         }
-        if (runCount > 0) drawRange(d, runFirst, runCount, runClusters, stats);
+        if (runCount > 0) visit(d, runFirst, runCount, runClusters);
         runFirst = r.firstIndex;
         runCount = r.indexCount;
         runClusters = 1;
       }
-      if (runCount > 0) drawRange(d, runFirst, runCount, runClusters, stats);
+      if (runCount > 0) visit(d, runFirst, runCount, runClusters);
     }
   }
 

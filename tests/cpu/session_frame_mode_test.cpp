@@ -215,5 +215,62 @@ TEST(ModeChooser, GeometryCostFollowsTheLastFewSamples) {
 }
 
 
+TEST(ModeChooser, GeometryCostIsInterpolatedInTheViewsTriangles) {
+  ModeChooser c;
+  c.addGeometryMs(10, 100000);
+  c.addGeometryMs(30, 200000);
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(150000), 20);  // between the two
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(100000), 10);  // on a sample
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(50000), 7.5);  // below: half fixed, half in proportion
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(0), 5);        // the fixed half
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(400000), 60);  // above: in proportion
+  EXPECT_TRUE(std::isnan(c.geometryAtTriangles(-1)));
+  // Samples within 2 % of each other count as one, their median: 9, 10, 50
+  // at about 100k (one frame slowed by something else) give 10.
+  c.addGeometryMs(9, 99000);
+  c.addGeometryMs(50, 101000);
+  EXPECT_DOUBLE_EQ(c.geometryAtTriangles(101000), 10);
+  // Samples without a triangle count are left out of it.
+  ModeChooser none;
+  none.addGeometryMs(10);
+  EXPECT_TRUE(std::isnan(none.geometryAtTriangles(1000)));
+  none.setViewTriangles(1000);
+  EXPECT_DOUBLE_EQ(none.geometryMs(), 10);  // the recent median instead
+}
+
+TEST(ModeChooser, AHeavyStretchDoesNotStandForTheLighterViewsAfterIt) {
+  // The morse trees path: views of 160k triangles at 20 ms, then five of
+  // 250-270k at 50-100 ms; later, one probe at 120k triangles takes 14 ms.
+  // The last five samples' median is still 65 ms; the view of 125k now is
+  // between the probe and the 160k views.
+  auto feed = [](ModeChooser& c) {
+    for (int i = 0; i < 6; ++i) c.addGeometryMs(20, 160000);
+    c.addGeometryMs(30, 209000);
+    c.addGeometryMs(65, 249000);
+    c.addGeometryMs(93, 266000);
+    c.addGeometryMs(100, 271000);
+    c.addGeometryMs(14, 121000);
+    c.addInBetweenMs(15);  // warped frames of this path cost about that
+    c.addKeyframeMs(15);
+    c.setViewTriangles(125000);
+  };
+  ModeChooser c;
+  feed(c);
+  EXPECT_DOUBLE_EQ(c.geometryRecentMs(), 65);
+  EXPECT_NEAR(c.geometryMs(), 14 + 6 * (125000.0 - 121000) / (160000 - 121000), 1e-9);
+  EXPECT_FALSE(c.warpNext(true, 10));  // warping stops: 15 ms is over 0.9 x 14.6
+  ModeChooserOptions recentOnly;
+  recentOnly.geometryByTriangles = false;
+  ModeChooser r(recentOnly);
+  feed(r);
+  EXPECT_DOUBLE_EQ(r.geometryMs(), 65);
+  EXPECT_TRUE(r.warpNext(true, 10));  // the stale estimate keeps warping
+  // A view as heavy as the heavy stretch is predicted as heavy before it is drawn.
+  c.setViewTriangles(266000);
+  EXPECT_DOUBLE_EQ(c.geometryMs(), 93);
+  EXPECT_TRUE(c.warpNext(false, 10));
+}
+
+
 }  // namespace
 }  // namespace hw::session

@@ -68,6 +68,7 @@ class RayCastRenderer : public GeometryRenderer {
                     Image<std::uint8_t>&, RenderStats*) override {
     return makeError("not drawn by the ray-cast test renderer");
   }
+  std::size_t visibleTriangles(const Camera&) const override { return 0; }
   std::size_t sceneTriangles() const override { return 0; }
   std::size_t sceneClusters() const override { return 0; }
   const RenderOptions& options() const override { return options_; }

@@ -1,6 +1,7 @@
 // Culling by cluster (scenes/clusters.h) leaves the geometry renderer's
 // image bit for bit as it is without any culling, in every depth mode, while
-// drawing fewer triangles than culling by whole mesh.
+// drawing fewer triangles than culling by whole mesh; visibleTriangles counts
+// what a render draws.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -57,6 +58,10 @@ TEST_F(ClusterCullTest, CulledRenderIsBitIdenticalToTheUnculledOne) {
         EXPECT_TRUE(sameBits(km.colour, kn.colour)) << at;
         EXPECT_EQ(sn.trianglesDrawn, c.scene.triangleCount()) << at;
         EXPECT_LE(sc.trianglesDrawn, sm.trianglesDrawn) << at;
+        // Counted without drawing, by the same culling.
+        EXPECT_EQ((*rNone)->visibleTriangles(cam), sn.trianglesDrawn) << at;
+        EXPECT_EQ((*rMesh)->visibleTriangles(cam), sm.trianglesDrawn) << at;
+        EXPECT_EQ((*rCluster)->visibleTriangles(cam), sc.trianglesDrawn) << at;
         trisMesh += sm.trianglesDrawn;
         trisCluster += sc.trianglesDrawn;
       }

@@ -6,6 +6,7 @@
 // tests/cpu/session_frame_mode_test.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -86,6 +87,7 @@ TEST_F(WalkModeTest, AutoWarpsOnlyTheSegmentsItChoosesAndBuildsOnlyTheirKeyframe
   session::WalkOptions wo = options(session::FrameMode::Auto, autoOut);
   wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
   wo.modeChooser.leaveAbove = 0;
+  wo.modeChooser.giveUpAfter = 0;  // forced: no segment given up by its timing
   auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(a.ok()) << a.error().message;
   auto h = session::runWalk(in.scene, "indoor:20k", in.path,
@@ -134,6 +136,7 @@ TEST_F(WalkModeTest, ReprojectedFallbackAfterAGeometryFrameCopiesInsteadOfReproj
   wo.inBetween.fallback = gapfill::Fallback::Reproject;
   wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
   wo.modeChooser.leaveAbove = 0;
+  wo.modeChooser.giveUpAfter = 0;  // forced: no segment given up by its timing
   auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
   ASSERT_TRUE(a.ok()) << a.error().message;
   EXPECT_EQ(a->report["summary"]["frames_by_mode"]["geometry"], 6);
@@ -152,6 +155,42 @@ TEST_F(WalkModeTest, AutoThatNeverWarpsBuildsNoKeyframe) {
   EXPECT_EQ(s["frames_by_mode"]["geometry"], 12);
   EXPECT_EQ(s["mode_switches"], 0);
   EXPECT_GT(s["mode_costs"]["geometry_ms"].get<double>(), 0);
+  // The cost compared against is the view's, from the triangles it draws.
+  EXPECT_EQ(s["mode_costs"]["geometry_by_triangles"], true);
+  EXPECT_GT(s["mode_costs"]["view_triangles"].get<double>(), 0);
+  EXPECT_GT(s["mode_costs"]["geometry_view_ms"].get<double>(), 0);
+  EXPECT_EQ(s["warp_starts_deferred"], 0);  // keyframes built in the frame: nothing to wait for
+}
+
+TEST_F(WalkModeTest, AutoStartsWarpingOnlyOnKeyframesBuiltAhead) {
+  // Keyframes from the worker, and a choice forced to flip every segment:
+  // each warped stretch after a geometry one starts on keyframes the worker
+  // has finished (the segment is left as geometry until then), so none of
+  // its frames waits for a build.
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 41, 5);
+  session::WalkOptions wo = options(session::FrameMode::Auto, "");
+  wo.saveFrames = false;
+  wo.strips = 0;
+  wo.asyncKeyframes = true;
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
+  wo.modeChooser.leaveAbove = 0;
+  wo.modeChooser.giveUpAfter = 0;  // forced: no segment given up by its timing
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const auto& frames = a->report["frames"];
+  ASSERT_EQ(frames.size(), 41u);
+  int starts = 0;
+  for (int i = 1; i < 41; ++i) {
+    if (frames[i]["mode"] != "keyframe" || frames[i - 1]["mode"] != "geometry") continue;
+    ++starts;
+    for (int j = i; j < std::min(41, i + 5); ++j)
+      EXPECT_EQ(frames[j]["ms"]["keyframe_wait"].get<double>(), 0.0) << "frame " << j;
+  }
+  // Segments 5-10, 15-20, ...: every one after a geometry segment either
+  // started warping or was deferred (then drawn as geometry, and the next
+  // decision tried again).
+  const auto& s = a->report["summary"];
+  EXPECT_GE(starts + s["warp_starts_deferred"].get<int>(), 3);
 }
 
 }  // namespace

@@ -1,0 +1,16 @@
+#!/bin/bash
+# Last-5 median vs the view's triangles as the mode choice's geometry cost,
+# default preset, nine paths, two passes, back to back per path.
+# Usage: run.sh [OUT] [TAG] (the program before at /tmp/hw_old, after at
+# build/bin/hybridwalk, its reports named TAG: "half" was the program with
+# change 1 alone, "defer" the one committed); then python3 table.py OUT > table.md.
+cd "$(dirname "$0")/../../../.."; export LP_NUM_THREADS=2; out=${1:-/tmp/gt}; tag=${2:-defer}
+for pass in 1 2; do
+for c in "indoor|" "indoor:1M|" "outdoor:100k|" "q3:oa_dm5|paths/oa_dm5.json" "q3:aggressor|paths/aggressor.json" "q3:delta|paths/delta.json" "torcs:forza|paths/forza.json" "torcs:e-track-2|paths/e-track-2.json" "morse:land-1/trees|paths/trees.json"; do
+  sc=${c%%|*}; p=${c#*|}; pa=""; [ -n "$p" ] && pa="--path $p"
+  n=$(echo $sc | tr ':/' '__')
+  for b in old $tag; do
+    bin=build/bin/hybridwalk; [ $b = old ] && bin=/tmp/hw_old
+    $bin walk --scene $sc $pa --frames 120 --strips 0 --quiet --out $out/${n}_${b}_$pass >/dev/null 2>&1 || echo fail $n $b
+  done
+done; done
