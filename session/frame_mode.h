@@ -100,6 +100,7 @@ class ModeChooser {
   // NaN: no such sample, or triangles < 0.
   double geometryAtTriangles(double triangles) const;
   double inBetweenMs() const;  // measured median, else the floor; NaN: neither
+  bool inBetweenMeasured() const { return inBetween_.n > 0; }  // not just the floor
   // The options' tailQuantile of the recent in-between frames, else the floor.
   double inBetweenTailMs() const;
   // ms per frame of a warped segment of `framesPerSegment` (>= 1) frames: the

@@ -83,10 +83,11 @@ class WalkLoop {
   Status warmUp();
   Status calibrateRefresh();
   Status calibrateModes();
-  Status calibrateWarp();
+  Status calibrateWarp(int k0);
   void chooseStripFrames();
-  FrameKind chooseKind(int i, int k0, int k1);
+  Status chooseKind(int i, int k0, int k1, FrameKind* kind);
   bool segmentKeyframesReady(int k) const;
+  Status calibrateIfUnmeasured(int k0, int frames, bool* warp);
   int segmentLength(int k) const;
   Status frame(int i);
   Status geometryFrame(int i, json& fj, json& ms);
@@ -134,7 +135,8 @@ class WalkLoop {
   int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
   int modeSwitches_ = 0;
   int segmentsGivenUp_ = 0;
-  int warpStartsDeferred_ = 0;  // segments left as geometry while their keyframes were building  // warped segments finished as geometry (ModeChooser::giveUp)
+  int warpStartsDeferred_ = 0;  // segments left as geometry while their keyframes were building
+  int deferredSegment_ = -1;    // the keyframe of the segment deferred last (-1: none)  // warped segments finished as geometry (ModeChooser::giveUp)
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
   double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
@@ -265,7 +267,10 @@ Status WalkLoop::warmUp() {
   if (opt_.mode == FrameMode::Auto) {
     HW_TRY(calibrateModes());
     warping_ = chooser_.warpNext(false, segmentLength(0));
-    if (warping_) HW_TRY(calibrateWarp());
+    if (warping_ && frames_ > 1) {
+      HW_TRY(calibrateWarp(schedule_.bracket(0).first));
+      warping_ = chooser_.warpNext(false, segmentLength(0));
+    }
     decidedAt_ = 0;
     chooser_.startSegment();
   }
@@ -330,15 +335,14 @@ Status WalkLoop::calibrateModes() {
   return {};
 }
 
-// The floor says warping may pay: the first keyframe (which the walk then
-// warps) is built now and warped, as both layers (an in-between frame draws
-// two), to the camera half-way through the first segment; that frame's cost
-// (with its hole pass, WalkOptions::renderHoles), not the floor (which leaves
-// out the scene's mesh: 1.3x below the real cost indoors, 3-6x on dense
-// outdoor meshes), decides the first segment.
-Status WalkLoop::calibrateWarp() {
-  if (frames_ < 2) return {};
-  const int k0 = schedule_.bracket(0).first;
+// The floor says warping may pay: keyframe k0 (which the walk then warps,
+// the first, or the first of a later segment when no in-between frame has
+// been measured yet) is built (or taken from the worker) and warped, as both
+// layers (an in-between frame draws two), to the camera half-way through its
+// segment; that frame's cost (with its hole pass, WalkOptions::renderHoles),
+// not the floor (which leaves out the scene's mesh: 1.3x below the real cost
+// indoors, 3-6x on dense outdoor meshes), decides the segment.
+Status WalkLoop::calibrateWarp(int k0) {
   // Only k0 (get() requests it from the worker and waits): the keyframes after
   // it are requested once warping is chosen (warmUp), so that a walk drawn
   // as geometry does not build them beside its first frames.
@@ -362,7 +366,6 @@ Status WalkLoop::calibrateWarp() {
   }
   warpCalibrationMs_ = ms;
   chooser_.addInBetweenMs(ms);
-  warping_ = chooser_.warpNext(false, segmentLength(0));
   return {};
 }
 
@@ -375,6 +378,19 @@ bool WalkLoop::segmentKeyframesReady(int k) const {
   return true;
 }
 
+// No in-between frame measured yet (the floor, which leaves out the scene's
+// mesh, said warping may pay only now): keyframe k0 is warped as before the
+// walk (calibrateWarp), in this frame's time, and that cost decides *warp
+// for the `frames` frames to come.
+Status WalkLoop::calibrateIfUnmeasured(int k0, int frames, bool* warp) {
+  if (chooser_.inBetweenMeasured()) return {};
+  Stopwatch sw;
+  HW_TRY(calibrateWarp(k0));
+  *warp = chooser_.warpNext(false, frames);
+  chooseMs_ += sw.ms();
+  return {};
+}
+
 // Frames from keyframe k to the next keyframe (1 for the last frame).
 int WalkLoop::segmentLength(int k) const {
   return k + 1 < frames_ ? schedule_.bracket(k + 1).second - k : 1;
@@ -382,7 +398,7 @@ int WalkLoop::segmentLength(int k) const {
 
 // How frame i is drawn. FrameMode::Auto decides at each keyframe of the
 // schedule, for the segment that starts there, whether to warp it.
-FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
+Status WalkLoop::chooseKind(int i, int k0, int k1, FrameKind* kind) {
   bool probe = false;
   chooseMs_ = 0;
   if (opt_.mode == FrameMode::Auto) {
@@ -398,11 +414,15 @@ FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
     // Warping starts only on keyframes built ahead: a keyframe frame that
     // waits for its build costs a geometry render and the LOD build in one
     // frame. The geometry frames before asked for them; until they are
-    // done, this segment is drawn as geometry too.
+    // done, this segment is drawn as geometry; warping starts at the first
+    // of its frames that finds them done (below).
+    deferredSegment_ = -1;
     if (warp && !warping_ && asyncKf_ && !segmentKeyframesReady(i)) {
       warp = false;
+      deferredSegment_ = i;
       ++warpStartsDeferred_;
     }
+    if (warp && !warping_) HW_TRY(calibrateIfUnmeasured(i, segmentLength(i), &warp));
     modeSwitches_ += warp != warping_;
     // Warping with keyframes from elsewhere, no frame measures the geometry:
     // every kProbeEvery warped segments one starts with a geometry frame.
@@ -419,9 +439,22 @@ FrameKind WalkLoop::chooseKind(int i, int k0, int k1) {
     warping_ = false;  // the rest of this segment as geometry
     ++modeSwitches_;
     ++segmentsGivenUp_;
+  } else if (opt_.mode == FrameMode::Auto && k0 != k1 && !warping_ && deferredSegment_ == k0 &&
+             segmentKeyframesReady(k0)) {
+    // The deferred segment's keyframes are done: its other frames are warped.
+    bool warp = chooser_.warpNext(false, k1 - i);
+    if (warp) HW_TRY(calibrateIfUnmeasured(k0, k1 - i, &warp));
+    if (warp) {
+      warping_ = true;
+      ++modeSwitches_;
+      chooser_.startSegment();
+    }
+    deferredSegment_ = -1;  // one try: the next decision is the next keyframe's
   }
-  if (!warping_ || probe) return FrameKind::Geometry;
-  return k0 == k1 ? FrameKind::Keyframe : FrameKind::Warp;
+  *kind = !warping_ || probe ? FrameKind::Geometry
+          : k0 == k1         ? FrameKind::Keyframe
+                             : FrameKind::Warp;
+  return {};
 }
 
 // The refresh render's cost model, calibrated before the first frame: two
@@ -698,7 +731,8 @@ Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* r
   double budgetMs = std::nan("");
   std::function<int(int)> maxRects;
   if (opt_.mode == FrameMode::Auto && opt_.renderHolesBudget > 0) {
-    const double geo = chooser_.geometryMs() > 0 ? chooser_.geometryMs() : currentRefMs_;
+    const double predicted = chooser_.geometryMs();
+    const double geo = predicted > 0 ? predicted : currentRefMs_;
     if (geo > 0) {
       budgetMs = std::min(opt_.renderHolesBudget * geo, geo - frameSw_.ms());
       maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };
@@ -914,7 +948,8 @@ Status WalkLoop::frame(int i) {
   json fj;
   fj["index"] = i;
   const auto [k0, k1] = schedule_.bracket(i);
-  const FrameKind kind = chooseKind(i, k0, k1);
+  FrameKind kind = FrameKind::Geometry;
+  HW_TRY(chooseKind(i, k0, k1, &kind));
   json ms = json::object();
   currentRefMs_ = std::nan("");
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own

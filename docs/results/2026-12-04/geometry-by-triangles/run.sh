@@ -1,12 +1,14 @@
 #!/bin/bash
 # Last-5 median vs the view's triangles as the mode choice's geometry cost,
-# default preset, nine paths, two passes, back to back per path.
+# default preset, ten paths, two passes, back to back per path.
 # Usage: run.sh [OUT] [TAG] (the program before at /tmp/hw_old, after at
 # build/bin/hybridwalk, its reports named TAG: "half" was the program with
-# change 1 alone, "defer" the one committed); then python3 table.py OUT > table.md.
-cd "$(dirname "$0")/../../../.."; export LP_NUM_THREADS=2; out=${1:-/tmp/gt}; tag=${2:-defer}
+# change 1 alone, "defer" with change 2 at keyframes only, "final" the one
+# committed; ps37ctf was run only with "final");
+# then python3 table.py OUT > table.md.
+cd "$(dirname "$0")/../../../.."; export LP_NUM_THREADS=2; out=${1:-/tmp/gt}; tag=${2:-final}
 for pass in 1 2; do
-for c in "indoor|" "indoor:1M|" "outdoor:100k|" "q3:oa_dm5|paths/oa_dm5.json" "q3:aggressor|paths/aggressor.json" "q3:delta|paths/delta.json" "torcs:forza|paths/forza.json" "torcs:e-track-2|paths/e-track-2.json" "morse:land-1/trees|paths/trees.json"; do
+for c in "indoor|" "indoor:1M|" "outdoor:100k|" "q3:oa_dm5|paths/oa_dm5.json" "q3:aggressor|paths/aggressor.json" "q3:delta|paths/delta.json" "torcs:forza|paths/forza.json" "torcs:e-track-2|paths/e-track-2.json" "morse:land-1/trees|paths/trees.json" "q3:ps37ctf|paths/ps37ctf.json"; do
   sc=${c%%|*}; p=${c#*|}; pa=""; [ -n "$p" ] && pa="--path $p"
   n=$(echo $sc | tr ':/' '__')
   for b in old $tag; do
