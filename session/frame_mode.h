@@ -58,9 +58,9 @@ struct ModeChooserOptions {
   // geometry samples kept with their own triangle counts: interpolated
   // between the samples nearest below and above in triangles; above them in
   // proportion to the nearest, below them half its cost fixed and half in
-  // proportion. A heavy stretch of the walk then no longer
-  // stands for the lighter views after it (the samples keep their triangle
-  // counts), and a view that grows heavier is seen before it is drawn.
+  // proportion. A heavy stretch of the walk then no longer stands for the
+  // lighter views after it (the samples keep their triangle counts), and a
+  // view that grows heavier is seen before it is drawn.
   // false, or no triangle counts: the median of the last geometryRecent.
   bool geometryByTriangles = true;
 };

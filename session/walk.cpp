@@ -134,9 +134,9 @@ class WalkLoop {
   int segmentsSinceProbe_ = 0, geometryProbes_ = 0;
   int kindCounts_[3] = {0, 0, 0};  // frames per FrameKind
   int modeSwitches_ = 0;
-  int segmentsGivenUp_ = 0;
+  int segmentsGivenUp_ = 0;  // warped segments finished as geometry (ModeChooser::giveUp)
   int warpStartsDeferred_ = 0;  // segments left as geometry while their keyframes were building
-  int deferredSegment_ = -1;    // the keyframe of the segment deferred last (-1: none)  // warped segments finished as geometry (ModeChooser::giveUp)
+  int deferredSegment_ = -1;    // the keyframe of the segment deferred last (-1: none)
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
   double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
