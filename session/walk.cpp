@@ -954,7 +954,11 @@ Status WalkLoop::frame(int i) {
   currentRefMs_ = std::nan("");
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own
     keyframe::RenderStats rs;
-    HW_TRY(renderer_->renderColour(cam, reference_, &rs));
+    // Timed alone: keyframe work beside it would inflate the denominator.
+    if (asyncKf_) kfWorker_->hold();
+    const Status refStatus = renderer_->renderColour(cam, reference_, &rs);
+    if (asyncKf_) kfWorker_->release();
+    HW_TRY(refStatus);
     currentRefMs_ = rs.drawMs + rs.readbackMs;
     recorder_.series.referenceMs.push_back(currentRefMs_);
   }

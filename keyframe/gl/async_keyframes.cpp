@@ -87,20 +87,57 @@ void AsyncKeyframes::pace() {
       }
       return debtMs_ < budget;
     };
-    workCv_.wait(lock, settle);
+    boundaryWait(lock, settle);
     stepStartMs_ = clock_.ms();
     return;
   }
   endStep();
-  if (options_.stepsPerFrame <= 0) return;
   std::unique_lock lock(mutex_);
+  if (options_.stepsPerFrame <= 0) {
+    boundaryWait(lock, [] { return true; });
+    stepStartMs_ = clock_.ms();
+    return;
+  }
   const long long per = options_.stepsPerFrame;
   // Nothing banked beyond the current frame's budget while idle, so no
   // burst follows.
   steps_ = std::max(steps_, (ticks_ - 1) * per);
-  workCv_.wait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
+  boundaryWait(lock, [&] { return stop_ || waiting_ > 0 || steps_ < ticks_ * per; });
   ++steps_;
   stepStartMs_ = clock_.ms();
+}
+
+void AsyncKeyframes::boundaryWait(std::unique_lock<std::mutex>& lock,
+                                  const std::function<bool()>& ready) {
+  auto go = [&] { return ready() && (!held_ || stop_ || waiting_ > 0); };
+  if (go()) return;
+  if (held_) {  // unpaced pieces are not finished: the hold covers their rasterisation
+    lock.unlock();
+    glFinish();
+    lock.lock();
+  }
+  atBoundary_ = true;
+  doneCv_.notify_all();
+  workCv_.wait(lock, go);
+  atBoundary_ = false;
+}
+
+double AsyncKeyframes::hold() {
+  Stopwatch sw;
+  std::unique_lock lock(mutex_);
+  held_ = true;
+  // Slices: parked_ outside runSlice(). Time pacing: a worker waiting for its
+  // budget is at a boundary too, and its pieces end with glFinish.
+  doneCv_.wait(lock, [&] { return atBoundary_ || parked_ || idle_ || workerExited_; });
+  return sw.ms();
+}
+
+void AsyncKeyframes::release() {
+  {
+    std::lock_guard lock(mutex_);
+    held_ = false;
+  }
+  workCv_.notify_all();
 }
 
 double AsyncKeyframes::runSlice() {

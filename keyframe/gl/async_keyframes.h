@@ -121,6 +121,13 @@ class AsyncKeyframes final : public KeyframeProducer {
   // worker run one slice and waits for it. Returns the ms waited (0 without
   // slices, or when the worker has nothing to do).
   double runSlice();
+  // Main thread: the worker stops at its next step boundary (its GL work
+  // finished) and stays there until release(), so what the main thread
+  // measures meanwhile (a reference render) shares neither the CPUs nor
+  // llvmpipe's rasteriser queue with keyframe work. Returns the ms waited for
+  // the step in progress. A take() that has to wait lifts the hold.
+  double hold();
+  void release();
 
   int built() const;            // keyframes the worker finished
   double workerBusyMs() const;  // time it spent building them (pacing waits excluded)
@@ -132,6 +139,9 @@ class AsyncKeyframes final : public KeyframeProducer {
   int outstandingLocked() const;
   void pace();     // worker: wait for a step of the budget
   void endStep();  // worker: account the step that just ended
+  // worker, under mutex_: waits until ready() and not held (see hold()),
+  // marked as stopped at a step boundary meanwhile.
+  void boundaryWait(std::unique_lock<std::mutex>& lock, const std::function<bool()>& ready);
   bool knownLocked(int frame) const;
 
   std::function<Camera(int)> cameraOf_;
@@ -157,6 +167,8 @@ class AsyncKeyframes final : public KeyframeProducer {
   // used of it, the worker is parked in pace() / waiting for a job, and the
   // last build's cost as the main thread may read it.
   bool sliceOpen_ = false, parked_ = false, idle_ = false;
+  // hold() requested; the worker waits at a step boundary (boundaryWait).
+  bool held_ = false, atBoundary_ = false;
   double sliceBudgetMs_ = 0, sliceUsedMs_ = 0, lastStepMs_ = 0, sharedLastBuildMs_ = 0;
   double sliceDebtMs_ = 0;  // what the last slice ran over its budget
   Stopwatch clock_;

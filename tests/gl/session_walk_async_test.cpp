@@ -325,6 +325,47 @@ TEST_F(AsyncKeyframesTest, SetFramesPerKeyframeAppliesToAWaitingWorker) {
   EXPECT_EQ((*s)->framesPerKeyframe(), 0.0);
 }
 
+// hold() stops the worker at a step boundary until release(), in every
+// pacing mode, so a render timed meanwhile has the CPUs to itself; a take()
+// that has to wait lifts the hold instead of deadlocking.
+TEST_F(AsyncKeyframesTest, AHeldWorkerBuildsNothingUntilReleased) {
+  const Indoor in = test::smallIndoor("indoor", 64, 20, 5);
+  for (int mode = 0; mode < 3; ++mode) {
+    SCOPED_TRACE(mode == 0 ? "unpaced" : mode == 1 ? "time pacing" : "steps pacing");
+    keyframe::AsyncKeyframeOptions ao;
+    if (mode == 1) ao.framesPerKeyframe = 0.001;  // a budget of a thousand keyframes per frame
+    if (mode == 2) ao.stepsPerFrame = 1000000;
+    ao.flushEveryTriangles = 1000;
+    auto w = keyframe::AsyncKeyframes::create(
+        in.scene, [&](int i) { return in.path.cameraAt(i); }, ao);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    std::unique_ptr<keyframe::CachedKeyframe> e;
+    double waited = 0;
+    ASSERT_TRUE((*w)->take(0, &e, &waited).ok());  // a build time for the time budget
+    (*w)->frameTick();
+    EXPECT_GE((*w)->hold(), 0.0);  // idle: at once
+    ASSERT_TRUE((*w)->request(5));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_FALSE((*w)->ready(5)) << "the worker built while held";
+    (*w)->release();
+    for (int t = 0; t < 2000 && !(*w)->ready(5); ++t)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_TRUE((*w)->ready(5));
+    // Held with a keyframe in progress: hold() returns at its next step.
+    ASSERT_TRUE((*w)->request(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    (*w)->hold();
+    const bool doneAtHold = (*w)->ready(10);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    if (!doneAtHold) {
+      EXPECT_FALSE((*w)->ready(10)) << "the worker went on while held";
+    }
+    // Waiting for it lifts the hold.
+    ASSERT_TRUE((*w)->take(10, &e, &waited).ok());
+    (*w)->release();
+  }
+}
+
 TEST_F(AsyncKeyframesTest, DestroyingMidQueueJoinsTheWorker) {
   const Indoor in = test::smallIndoor("indoor", 128, 100, 5);
   keyframe::AsyncKeyframeOptions ao;
