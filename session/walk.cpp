@@ -577,6 +577,11 @@ void WalkLoop::endFrameWork(json& ms, FrameKind kind) {
   recorder_.frameTimes.push(currentFrame_, kind, builtThisFrame_, work, interval,
                             budgeted ? budgetMs_ : 0.0, currentRefMs_);
   if (kind == FrameKind::Warp) s.inBetweenIntervalMs.push_back(interval);
+  // The keyframe worker runs only beside frames, as it would in a viewer:
+  // held from here to the next frame's start, it takes no time from the
+  // reference render, the metrics or the output, and no frame is spared the
+  // sharing of the CPUs that building keyframes ahead costs.
+  if (kfWorker_) kfWorker_->hold();
 }
 
 // A frame drawn by the geometry renderer: exact, so it is its own reference
@@ -956,16 +961,14 @@ Status WalkLoop::frame(int i) {
   currentRefMs_ = std::nan("");
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own
     keyframe::RenderStats rs;
-    // Timed alone: keyframe work beside it would inflate the denominator.
-    if (asyncKf_) kfWorker_->hold();
-    // The first whole-scene draw after a new warp source is drawn from costs
+    // The keyframe worker is held here (see endFrameWork), so the reference
+    // is timed alone. The first whole-scene draw after a new warp source is drawn from costs
     // llvmpipe a one-time stall (about 100 ms on indoor:1M, measured; the
     // draw after it does not): a cost of switching, not of drawing the view.
     Status refStatus;
     if (referenceCold_) refStatus = renderer_->renderColour(cam, reference_, nullptr);
     referenceCold_ = false;
     if (refStatus.ok()) refStatus = renderer_->renderColour(cam, reference_, &rs);
-    if (asyncKf_) kfWorker_->release();
     HW_TRY(refStatus);
     currentRefMs_ = rs.drawMs + rs.readbackMs;
     recorder_.series.referenceMs.push_back(currentRefMs_);
@@ -981,6 +984,7 @@ Status WalkLoop::frame(int i) {
   workBeforeRefreshMs_ = -1;
   frameWaitMs_ = 0;
   if (asyncKf_) {
+    kfWorker_->release();
     kfWorker_->frameTick();
     if (warping_) HW_TRY(cache_->prefetch(i));
   }
