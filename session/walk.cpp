@@ -962,9 +962,10 @@ Status WalkLoop::frame(int i) {
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own
     keyframe::RenderStats rs;
     // The keyframe worker is held here (see endFrameWork), so the reference
-    // is timed alone. The first whole-scene draw after a new warp source is drawn from costs
-    // llvmpipe a one-time stall (about 100 ms on indoor:1M, measured; the
-    // draw after it does not): a cost of switching, not of drawing the view.
+    // is timed alone. The first whole-scene draw after a new warp source
+    // was drawn from costs llvmpipe a one-time stall (about 100 ms on
+    // indoor:1M, measured; the draw after it does not): a cost of
+    // switching, not of drawing the view, so that draw is not the one timed.
     Status refStatus;
     if (referenceCold_) refStatus = renderer_->renderColour(cam, reference_, nullptr);
     referenceCold_ = false;
