@@ -115,14 +115,13 @@ Status PathFrames::keyframeFrame(int i, int k0, FrameInfo* info) {
     HW_TRY(step_.drawNear(nearGeometry(k0, k0), cam, kf->keyframe.eyeZ, frame_, ns));
     info->nearMs = ns.nearMs;
   }
-  // As the walk: the next keyframe uploaded now if already built, and its
-  // first (slow) draw taken into a scratch layer.
+  // As the walk: the next keyframe uploaded now if already built (no
+  // warm-up draw from it: that made the frames around it slower).
   if (i + 1 < frames()) {
     const int nextK = schedule_.bracket(i + 1).second;
     if (nextK != k0 && !sources_.count(nextK) && cache_->contains(nextK)) {
       const keyframe::CachedKeyframe* kn = nullptr;
       HW_TRY(getSource(nextK, &kn, info));
-      HW_TRY(warper_->warp(*sources_[nextK], cam, step_.layerB(), nullptr));
     }
   }
   return {};

@@ -657,9 +657,9 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
     if (next != k0 && !sources_.count(next) && cache_->contains(next)) {
       const keyframe::CachedKeyframe* kn = nullptr;
       HW_TRY(getSource(next, &kn));
-      // llvmpipe's first draw from a new source costs about a warp more than
-      // later ones (measured): take it here, into a scratch layer.
-      HW_TRY(warper_->warp(*sources_[next], cam, step_.layerB(), nullptr));
+      // No warm-up draw from it here: measured without a reference render
+      // (as a viewer runs), one made the keyframe frame 1.4-3 ms and the
+      // next frame 1.4-5 ms slower on indoor, oa_dm5 and outdoor:1M.
     }
   }
   if (trackAge_) {
