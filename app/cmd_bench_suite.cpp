@@ -129,9 +129,11 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                        "--preset paper: share of frames per mode, frame/geometry ms, PSNR; "
                        "scenes.md, scenes.csv), disocclusion (what a third keyframe or depth "
                        "peeling could add to the holes, against the hole rectangles; "
-                       "disocclusion.csv)")
+                       "disocclusion.csv), floor (one full-screen textured quad as one and two "
+                       "warped layers at 256², 512², 1024²)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"complexity", "trace", "spacing", "skips", "scenes", "disocclusion"}));
+      ->check(CLI::IsMember(
+          {"complexity", "trace", "spacing", "skips", "scenes", "disocclusion", "floor"}));
 
   commands.push_back({benchCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }

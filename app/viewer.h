@@ -56,6 +56,9 @@ struct ViewerOptions {
   // (session/hole_pass.h), every rectangle found; false: the previous
   // frame's pixels, as the paper.
   bool renderHoles = false;
+  // Auto mode: the hole pass's time cap as a fraction of a geometry frame
+  // (session::WalkOptions::renderHolesBudget); 0 = every rectangle.
+  double renderHolesBudget = 0;
   std::string playPath;           // camera path JSON file; empty: the default path
   bool play = false;              // start by playing the path (loops; any move stops it)
   int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed
@@ -139,10 +142,10 @@ struct ViewerOptions {
 };
 
 // Sets the viewer's share of a walk's options (a preset's, session/presets.h)
-// in `out`, leaving its other fields: the frame mode, the LOD options and
-// whether keyframes are built ahead on a worker. The rest of a walk's options
-// (composition, near geometry, subdivision, hole fill) the viewer does as the
-// paper does, as both presets do.
+// in `out`, leaving its other fields: the frame mode, the LOD options,
+// whether keyframes are built ahead on a worker, and the hole pass with its
+// budget. Composition, near geometry and subdivision are the engine's
+// defaults (session/frame_engine.h), as both presets have them.
 void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out);
 
 // Runs the viewer until Esc / the window is closed / exitAfterFrames. The

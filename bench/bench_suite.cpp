@@ -8,6 +8,7 @@
 #include "core/json_util.h"
 #include "report/plot.h"
 #include "bench/skip_study.h"
+#include "session/frame_engine.h"
 #include "session/walk.h"
 #include "core/file_io.h"
 #include "core/machine.h"
@@ -56,9 +57,10 @@ void say(bool on, const char* fmtStr, const std::string& a) {
 Result<json> runBenchSuite(const BenchOptions& opt) {
   for (const std::string& p : opt.parts)
     if (p != "complexity" && p != "trace" && p != "spacing" && p != "skips" && p != "scenes" &&
-        p != "disocclusion")
+        p != "disocclusion" && p != "floor")
       return makeError("bench: unknown part '" + p +
-                       "': expected complexity, trace, spacing, skips, scenes or disocclusion");
+                       "': expected complexity, trace, spacing, skips, scenes, disocclusion or "
+                       "floor");
   auto want = [&](const char* part) {
     return opt.parts.empty() || std::find(opt.parts.begin(), opt.parts.end(), part) != opt.parts.end();
   };
@@ -291,6 +293,27 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
     disocclusion = std::move(*st);
   }
 
+  // (g) The fill floor: one full-screen textured quad as one layer and as two,
+  // at three resolutions (session/frame_engine.h measureFloor).
+  json floor = json::array();
+  if (want("floor")) {
+    const scenes::Scene scene = makeScene("indoor", 20000);
+    auto engine = session::FrameEngine::create(scene, session::WalkOptions{}, false);
+    if (!engine) return engine.error();
+    for (int res : {256, 512, 1024}) {
+      scenes::CameraPath path = pathFor("indoor");
+      path.width = path.height = res;
+      session::FloorTimes ft;
+      HW_TRY((*engine)->measureFloor(path.cameraAt(0), 40, &ft));
+      floor.push_back({{"resolution", res},
+                       {"one_layer_ms", ft.oneLayerMs},
+                       {"two_layers_ms", ft.twoLayersMs},
+                       {"draws", ft.reps}});
+      std::printf("floor %4d x %-4d  one layer %6.2f ms   two layers %6.2f ms   (median of %d)\n",
+                  res, res, ft.oneLayerMs, ft.twoLayersMs, ft.reps);
+    }
+  }
+
   json doc = {{"resolution", {512, 512}},
               {"complexity", complexity},
               {"trace", trace},
@@ -298,6 +321,7 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
               {"skips", skips},
               {"scenes", scenesTable},
               {"disocclusion", disocclusion},
+              {"floor", floor},
               {"parts", opt.parts},
               {"machine", machine},
               {"elapsed_s", all.ms() / 1000.0},
@@ -461,6 +485,17 @@ Result<json> runBenchSuite(const BenchOptions& opt) {
     for (const json& u : disocclusion["unavailable"])
       page.paragraph("Not measured: " + u["scene"].get<std::string>() + " (" +
                      u["reason"].get<std::string>() + ")");
+  }
+  if (want("floor")) {
+    page.heading("(g) The fill floor");
+    page.paragraph("One full-screen textured quad warped as one layer, and as both layers of an "
+                   "in-between frame (readback included): the least an in-between frame can "
+                   "cost at that resolution. Median of 40 draws after an untimed one.");
+    std::vector<std::vector<std::string>> rowsG;
+    for (const json& f : floor)
+      rowsG.push_back({std::to_string(f["resolution"].get<int>()) + "²",
+                       fmt(f["one_layer_ms"].get<double>()), fmt(f["two_layers_ms"].get<double>())});
+    page.table({"resolution", "one layer ms", "two layers ms"}, rowsG);
   }
   HW_TRY(page.write(opt.outDir + "/index.html"));
   return doc;

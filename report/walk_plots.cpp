@@ -16,10 +16,11 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   Series work{"warped frame: work (ms.frame)"}, geometry{"frame drawn as geometry: work"},
       built{"frame that built/uploaded a keyframe"},
       key{"keyframe shown"}, reference{"geometry frame, same camera (reference_ms)"},
-      interval{"presented interval (ms.interval)"}, budget{"budget"};
+      interval{"presented interval (ms.interval)"}, budget{"budget"},
+      floor{"fill floor: two layers of one full-screen quad (floor_ms)"};
   const Rgba8 kBlue{31, 119, 180, 255}, kRed{214, 39, 40, 255}, kGreen{44, 160, 44, 255},
       kGrey{110, 110, 110, 255}, kOrange{255, 127, 14, 255}, kPurple{148, 103, 189, 255},
-      kBrown{140, 86, 75, 255};
+      kBrown{140, 86, 75, 255}, kBlack{0, 0, 0, 255};
   work.colour = kBlue;
   geometry.colour = kBrown;
   built.colour = kRed;
@@ -27,6 +28,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   reference.colour = kGrey;
   interval.colour = kOrange;
   budget.colour = kPurple;
+  floor.colour = kBlack;
   bool anyBudget = false;
   for (std::size_t i = 0; i < t.frame.size(); ++i) {
     const double x = t.frame[i];
@@ -43,6 +45,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
     reference.y.push_back(t.referenceMs[i]);
     interval.x.push_back(x);
     interval.y.push_back(t.intervalMs[i]);
+    if (t.floorMs > 0) floor.x.push_back(x), floor.y.push_back(t.floorMs);
     if (t.budgetMs[i] > 0) {
       anyBudget = true;
       budget.x.push_back(x);
@@ -57,6 +60,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   built.marker = Marker::kSquare;
   interval.marker = Marker::kCircle;
   budget.markers = false;
+  floor.markers = false;
   const bool budgetOn = opt.frameBudgetMs > 0 || opt.frameBudgetAuto;
   char budgetLabel[64] = "";
   if (opt.frameBudgetAuto)
@@ -80,6 +84,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   if (anyGeometry) series.push_back(geometry);
   if (budgetOn && opt.paceFrames) series.push_back(interval);
   if (anyBudget) series.push_back(budget);
+  if (!floor.x.empty()) series.push_back(floor);
   return writePlot(pngPath, series, po);
 }
 

@@ -26,7 +26,7 @@ bool sameView(const Camera& a, const Camera& b) {
 }  // namespace
 
 FreeFrames::FreeFrames(const WalkOptions& options, const FreeKeyframeOptions& keyframes)
-    : opt_(options), kopt_(keyframes), step_(options.inBetween) {}
+    : opt_(options), kopt_(keyframes) {}
 
 FreeFrames::~FreeFrames() = default;
 
@@ -47,17 +47,9 @@ Result<std::unique_ptr<FreeFrames>> FreeFrames::create(const scenes::Scene& scen
 
 Status FreeFrames::setUp(const scenes::Scene& scene, bool writeEyeZ) {
   writeEyeZ_ = writeEyeZ;
-  keyframe::RenderOptions ropt;
-  ropt.depthMode = opt_.depthMode;
-  ropt.keyframeExcludeNear = opt_.inBetween.nearDistance;
-  auto rendererR = keyframe::GeometryRenderer::create(scene, ropt);
-  if (!rendererR) return rendererR.error();
-  renderer_ = std::move(*rendererR);
-  warp::WarpOptions wopt = opt_.warp;
-  wopt.writeEyeZ = opt_.inBetween.needsEyeZ() || writeEyeZ;
-  auto warperR = warp::Warper::create(wopt);
-  if (!warperR) return warperR.error();
-  warper_ = std::move(*warperR);
+  auto engine = FrameEngine::create(scene, opt_, writeEyeZ);
+  if (!engine) return engine.error();
+  engine_ = std::move(*engine);
   return {};
 }
 
@@ -93,14 +85,12 @@ Camera FreeFrames::aheadCamera(const Camera& prev, const Camera& cam, double dis
 
 Status FreeFrames::build(Slot& slot, const Camera& cam, FrameInfo* info) {
   slot.valid = false;
-  slot.source.reset();
+  engine_->release(slot.serial);
   if (!slot.kf) slot.kf = std::make_unique<keyframe::CachedKeyframe>();
   const keyframe::MeshSpec spec{opt_.mesh, opt_.lod, opt_.tileSize};
-  HW_TRY(keyframe::buildCachedKeyframe(*renderer_, builder_, spec, cam, 0, *slot.kf));
+  HW_TRY(keyframe::buildCachedKeyframe(engine_->renderer(), builder_, spec, cam, 0, *slot.kf));
   warp::WarpStats ws;
-  auto src = warper_->upload(slot.kf->keyframe, slot.kf->mesh, &ws);
-  if (!src) return src.error();
-  slot.source = std::move(*src);
+  HW_TRY(engine_->upload(serial_ + 1, slot.kf->keyframe, slot.kf->mesh, cam.eye, &ws));
   slot.valid = true;
   slot.serial = ++serial_;
   const auto& ms = slot.kf->mesh.stats;
@@ -122,11 +112,11 @@ Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
          s.kf->keyframe.camera.nearPlane != cam.nearPlane ||
          s.kf->keyframe.camera.farPlane != cam.farPlane)) {
       s.valid = false;
-      s.source.reset();
+      engine_->release(s.serial);
     }
-  if (havePrevious_ &&
-      (previous_.colour.width() != cam.width || previous_.colour.height() != cam.height))
-    havePrevious_ = false;
+  if (engine_->hasPrevious() && (engine_->previous().colour.width() != cam.width ||
+                                 engine_->previous().colour.height() != cam.height))
+    engine_->forgetPrevious();
   const bool moving = havePrevCam_ && poseDistance(cam, prevCam_) > 1e-9;
   int nearest = -1, newest = -1, useful = 0;
   double sNearest = 1e300, s[2] = {1e300, 1e300};
@@ -166,35 +156,28 @@ Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
     newestSPrev_ = poseDistance(slots_[static_cast<std::size_t>(newest)].kf->keyframe.camera, cam);
     newestSerialPrev_ = slots_[static_cast<std::size_t>(newest)].serial;
   }
+  // The nearer keyframe in front (the engine's rule); a keyframe at this very
+  // view is the frame itself.
   if (b >= 0 && gapfill::chooseForeground(
                     cam.eye, slots_[static_cast<std::size_t>(a)].kf->keyframe.camera.eye,
                     slots_[static_cast<std::size_t>(b)].kf->keyframe.camera.eye) == 1)
     std::swap(a, b);
   const Slot& fg = slots_[static_cast<std::size_t>(a)];
   const Slot* bg = b >= 0 ? &slots_[static_cast<std::size_t>(b)] : nullptr;
-  NearGeometry near;
-  near.renderer = renderer_.get();
-  near.eyes[0] = fg.kf->keyframe.camera.eye;
-  near.eyeCount = 1;
-  if (bg) near.eyes[near.eyeCount++] = bg->kf->keyframe.camera.eye;
   if (sameView(fg.kf->keyframe.camera, cam)) {
     info->keyframe = true;
     info->quads = fg.kf->mesh.stats.quads;
-    showKeyframe(fg.kf->keyframe.colour, frame_);
+    InBetweenStats ns;
+    HW_TRY(engine_->showKeyframe(cam, fg.serial, fg.kf->keyframe, &ns, bg ? bg->serial : -1));
+    info->nearMs = std::max(0.0, ns.nearMs);
     if (writeEyeZ_) shownEyeZ_ = fg.kf->keyframe.eyeZ;
-    if (opt_.inBetween.nearDistance > 0) {
-      InBetweenStats ns;
-      HW_TRY(step_.drawNear(near, cam, fg.kf->keyframe.eyeZ, frame_, ns));
-      info->nearMs = ns.nearMs;
-    }
   } else {
-    HW_TRY(step_.draw(*warper_, *fg.source, bg ? bg->source.get() : nullptr, cam,
-                      havePrevious_ ? &previous_ : nullptr, &near, frame_, info->inBetween));
+    HW_TRY(engine_->warp(cam, fg.serial, bg ? bg->serial : -1, info->inBetween, nullptr));
+    if (opt_.renderHoles) HW_TRY(engine_->renderHoles(cam, nullptr, &info->holes));
     info->quads = info->inBetween.quads();
     info->nearMs = std::max(0.0, info->inBetween.nearMs);
   }
-  std::swap(previous_, frame_);
-  havePrevious_ = true;
+  engine_->present();
   prevCam_ = cam;
   havePrevCam_ = true;
   gl::drainGlErrors();

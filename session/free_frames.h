@@ -16,6 +16,7 @@
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 #include "scenes/scene.h"
+#include "session/frame_engine.h"
 #include "session/in_between.h"
 #include "session/path_frames.h"
 #include "session/walk.h"
@@ -52,11 +53,11 @@ class FreeFrames {
 
   // Draws the frame at `cam` into frame(). info->k0/k1 are -1. Errors: GL.
   Status draw(const Camera& cam, FrameInfo* info);
-  const gapfill::Frame& frame() const { return previous_; }  // the last frame drawn
+  const gapfill::Frame& frame() const { return engine_->previous(); }  // the last frame drawn
   // With writeEyeZ, after a keyframe frame (info->keyframe): its eye z.
   const Image<float>& keyframeEyeZ() const { return shownEyeZ_; }
-  InBetweenStep& inBetweenStep() { return step_; }
-  keyframe::GeometryRenderer& renderer() { return *renderer_; }
+  InBetweenStep& inBetweenStep() { return engine_->step(); }
+  keyframe::GeometryRenderer& renderer() { return engine_->renderer(); }
   // Pose distance between two cameras (FreeKeyframeOptions units).
   double poseDistance(const Camera& a, const Camera& b) const;
   // The camera `distance` pose units ahead along the motion from `prev` to
@@ -67,9 +68,8 @@ class FreeFrames {
  private:
   struct Slot {
     std::unique_ptr<keyframe::CachedKeyframe> kf;
-    std::unique_ptr<warp::WarpSource> source;
     bool valid = false;
-    long long serial = 0;
+    int serial = 0;  // build order, and the keyframe's id in the engine
   };
   FreeFrames(const WalkOptions& options, const FreeKeyframeOptions& keyframes);
   Status setUp(const scenes::Scene& scene, bool writeEyeZ);
@@ -78,17 +78,13 @@ class FreeFrames {
   WalkOptions opt_;
   FreeKeyframeOptions kopt_;
   bool writeEyeZ_ = false;
-  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
-  std::unique_ptr<warp::Warper> warper_;
+  std::unique_ptr<FrameEngine> engine_;
   keyframe::LodBuilder builder_;
   std::array<Slot, 2> slots_;
-  long long serial_ = 0;
-  InBetweenStep step_;
-  gapfill::Frame frame_, previous_;
-  bool havePrevious_ = false;
+  int serial_ = 0;
   Camera prevCam_;
   bool havePrevCam_ = false;
-  long long newestSerialPrev_ = -1;
+  int newestSerialPrev_ = -1;
   double newestSPrev_ = 0;
   Image<float> shownEyeZ_;
 };

@@ -1,13 +1,10 @@
 #pragma once
-// The walk's frames one at a time, for the library (include/hybridwalk):
-// the same keyframe schedule, keyframe cache, warper and in-between step as
-// runWalk (session/walk.h), in the same order, so frame i is bit for bit the
-// walk's frame i for the same scene, cameras and options; without the
-// reference, the recorder, the frame budget and the output files. Keyframes
-// are built on first use on the calling thread. tests/gl/api_frames_test.cpp
-// holds the two to the same frames; a change to the walk's frame loop
-// (session/walk.cpp) must be made here too.
-#include <map>
+// The walk's frames one at a time, for the library (include/hybridwalk): the
+// path's keyframe schedule and cache driving the frame engine
+// (session/frame_engine.h) the walk drives, so frame i is bit for bit the
+// walk's frame i (--mode hybrid) for the same scene, cameras and options;
+// without the reference, the recorder, the frame budget and the output
+// files. Keyframes are built on first use on the calling thread.
 #include <memory>
 #include <vector>
 
@@ -17,6 +14,7 @@
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
 #include "scenes/scene.h"
+#include "session/frame_engine.h"
 #include "session/hole_pass.h"
 #include "session/in_between.h"
 #include "session/walk.h"
@@ -63,32 +61,25 @@ class PathFrames {
   // Draws frame next() into frame() and advances. Error after the last
   // frame, or from GL.
   Status step(FrameInfo* info);
-  const gapfill::Frame& frame() const { return previous_; }  // the last frame drawn
+  const gapfill::Frame& frame() const { return engine_->previous(); }  // the last frame drawn
   // With writeEyeZ, after a keyframe frame: the keyframe's eye z (0 where
   // empty). After an in-between frame the layers' are in inBetweenStep().
   const Image<float>& keyframeEyeZ() const { return shownEyeZ_; }
-  InBetweenStep& inBetweenStep() { return step_; }
-  keyframe::GeometryRenderer& renderer() { return *renderer_; }
+  InBetweenStep& inBetweenStep() { return engine_->step(); }
+  keyframe::GeometryRenderer& renderer() { return engine_->renderer(); }
 
  private:
   PathFrames(std::vector<Camera> cameras, const WalkOptions& options);
   Status setUp(const scenes::Scene& scene, int keyframeEvery, bool writeEyeZ);
   Status getSource(int k, const keyframe::CachedKeyframe** out, FrameInfo* info);
-  NearGeometry nearGeometry(int k0, int k1) const;
   Status keyframeFrame(int i, int k0, FrameInfo* info);
   Status inBetweenFrame(int i, int k0, int k1, FrameInfo* info);
 
   std::vector<Camera> cams_;
   WalkOptions opt_;
-  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
-  std::unique_ptr<warp::Warper> warper_;
+  std::unique_ptr<FrameEngine> engine_;
   keyframe::KeyframeSchedule schedule_;
   std::unique_ptr<keyframe::KeyframeCache> cache_;
-  std::map<int, std::unique_ptr<warp::WarpSource>> sources_;
-  InBetweenStep step_;
-  HolePass holePass_;
-  gapfill::Frame frame_, previous_;
-  bool havePrevious_ = false;
   bool writeEyeZ_ = false;
   Image<float> shownEyeZ_;
   int next_ = 0;

@@ -30,6 +30,7 @@
 #include "keyframe/gl/async_keyframes.h"
 #include "keyframe/keyframe_cache.h"
 #include "session/frame_budget.h"
+#include "session/frame_engine.h"
 #include "session/hole_pass.h"
 #include "session/walk_recorder.h"
 
@@ -67,7 +68,6 @@ class WalkLoop {
         opt_(opt),
         frames_(opt.maxFrames > 0 ? std::min(opt.maxFrames, path.frames) : path.frames),
         writing_(!opt.outDir.empty()),
-        step_(opt.inBetween),
         recorder_(opt.keepFrames,
                   writing_ && !opt.keepFrames
                       ? opt.outDir + "/.report-frames.tmp-" + std::to_string(::getpid())
@@ -99,7 +99,9 @@ class WalkLoop {
   void endFrameWork(json& ms, FrameKind kind);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
   void releaseBefore(int k0);
-  NearGeometry nearGeometry(int k0, int k1) const;
+  const gapfill::Frame* previousFrame() const {
+    return engine_->hasPrevious() ? &engine_->previous() : nullptr;
+  }
   json summary() const;
   void summariseLod(json& s) const;
   void summariseTiming(json& s) const;
@@ -113,9 +115,8 @@ class WalkLoop {
   const int frames_;
   const bool writing_;
 
-  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
-  warp::WarpOptions wopt_;
-  std::unique_ptr<warp::Warper> warper_;
+  std::unique_ptr<FrameEngine> engine_;
+  keyframe::GeometryRenderer* renderer_ = nullptr;  // the engine's
   keyframe::KeyframeSchedule schedule_;
   std::vector<Camera> cams_;
   std::vector<char> walked_;  // onlySegments: the frames walked (empty = all)
@@ -124,6 +125,8 @@ class WalkLoop {
   std::unique_ptr<keyframe::AsyncKeyframes> kfWorker_;
   std::unique_ptr<keyframe::KeyframeCache> cache_;
   double warmupMs_ = 0;
+  static constexpr int kFloorReps = 15;
+  FloorTimes floor_;
   // The frame mode: this segment warped or drawn as geometry, and the costs
   // the choice is made from (FrameMode::Auto).
   bool warping_ = true;
@@ -147,19 +150,13 @@ class WalkLoop {
   std::unique_ptr<AutoFrameBudget> autoBudget_;
   double budgetMs_ = 0;  // this frame's budget (0 = none: no refresh, no pacing)
   RefreshCostModel refreshCost_;
-  HoleCostModel holeCost_;  // renderHoles under renderHolesBudget
   double refreshCalibrationMs_ = 0;
   Image<Rgba8> refreshColour_;
   std::vector<std::uint32_t> tileScores_;
   std::vector<int> tileOrder_;
-  HolePass holePass_;  // renderHoles' rectangles and buffers
   double workBeforeRefreshMs_ = -1;  // this frame's work when a refresh started (-1: none)
 
-  std::map<int, std::unique_ptr<warp::WarpSource>> sources_;  // keyframe → GPU copy
-  std::map<int, warp::WarpStats> uploadStats_;
-  InBetweenStep step_;
-  gapfill::Frame frame_, previous_;
-  bool havePrevious_ = false;
+  std::map<int, warp::WarpStats> uploadStats_;  // keyframe → its upload
   Image<Rgba8> reference_;
   bool referenceCold_ = false;  // a warp source was uploaded since the last reference
   std::vector<int> stripFrames_;
@@ -182,36 +179,24 @@ Status WalkLoop::setUp() {
       HW_TRY(ensureWritableDir(opt_.outDir + "/holes"));
     }
   }
-  keyframe::RenderOptions ropt;
-  ropt.depthMode = opt_.depthMode;
-  ropt.keyframeExcludeNear = opt_.inBetween.nearDistance;
-  auto rendererR = keyframe::GeometryRenderer::create(scene_, ropt);
-  if (!rendererR) return rendererR.error();
-  renderer_ = std::move(*rendererR);
-  // The reference uses the same renderer settings: the geometry image at the
-  // same camera (DESIGN.md "What is measured").
-  wopt_ = opt_.warp;
-  wopt_.writeEyeZ = opt_.inBetween.needsEyeZ();
-  // The large-leaf mask only feeds psnr_large_quads: without a reference it is not made.
-  wopt_.markLargeQuads = wopt_.markLargeQuads && opt_.reference;
-  auto warperR = warp::Warper::create(wopt_);
-  if (!warperR) return warperR.error();
-  warper_ = std::move(*warperR);
+  // The reference uses the engine's renderer: the geometry image at the same
+  // camera (DESIGN.md "What is measured"). The large-leaf mask only feeds
+  // psnr_large_quads: without a reference it is not made.
+  auto engine = FrameEngine::create(scene_, opt_, false, opt_.reference);
+  if (!engine) return engine.error();
+  engine_ = std::move(*engine);
+  renderer_ = &engine_->renderer();
+  // The fill floor at this resolution, before the keyframe worker starts.
+  HW_TRY(engine_->measureFloor(path_.cameraAt(0), kFloorReps, &floor_));
   HW_TRY(setUpSchedule());
   return setUpKeyframes();
 }
 
 Status WalkLoop::setUpSchedule() {
-  schedule_ = keyframe::KeyframeSchedule{frames_, path_.keyframeEvery, {}};
+  schedule_ = pathSchedule(frames_, path_.keyframeEvery, opt_.keyframeFrames);
   // Every frame's camera once (CameraPath::cameraAt rebuilds its arc-length
   // table per call); read-only, so the keyframe worker thread may use it too.
   cams_ = path_.cameras();
-  for (int k : opt_.keyframeFrames)
-    if (k > 0 && k < frames_ - 1) schedule_.explicitFrames.push_back(k);
-  auto& ex = schedule_.explicitFrames;
-  std::sort(ex.begin(), ex.end());
-  ex.erase(std::unique(ex.begin(), ex.end()), ex.end());
-  if (!opt_.keyframeFrames.empty() && ex.empty()) ex.push_back(frames_ - 1);  // only the two ends
   if (opt_.onlySegments.empty()) return {};
   walked_.assign(static_cast<std::size_t>(frames_), 0);
   for (const auto& [a, b] : opt_.onlySegments) {
@@ -324,12 +309,13 @@ Status WalkLoop::calibrateModes() {
   keyframe::QuadMesh mesh;
   keyframe::LodBuilder builder;
   HW_TRY(builder.build(kf, opt_.lod, &mesh));
-  auto src = warper_->upload(kf, mesh, nullptr);
+  auto src = engine_->warper().upload(kf, mesh, nullptr);
   if (!src) return src.error();
   InBetweenStats st;
   for (int rep = 0; rep < 2; ++rep) {
     Stopwatch sw;
-    HW_TRY(step_.draw(*warper_, **src, nullptr, cam, nullptr, nullptr, frame_, st));
+    HW_TRY(engine_->step().draw(engine_->warper(), **src, nullptr, cam, nullptr, nullptr,
+                                engine_->frame(), st));
     warpFloorMs_ = sw.ms();
   }
   chooser_.setWarpFloorMs(warpFloorMs_);
@@ -349,7 +335,7 @@ Status WalkLoop::calibrateWarp(int k0) {
   // as geometry does not build them beside its first frames.
   const keyframe::CachedKeyframe* kf = nullptr;
   HW_TRY(getSource(k0, &kf));
-  const warp::WarpSource& src = *sources_[k0];
+  const warp::WarpSource& src = engine_->source(k0);
   InBetweenOptions both = opt_.inBetween;
   both.skipBackground = false;
   InBetweenStep step(both);
@@ -360,7 +346,7 @@ Status WalkLoop::calibrateWarp(int k0) {
     Stopwatch sw;
     frameSw_.restart();
     const Camera& cam = cams_[static_cast<std::size_t>(mid)];
-    HW_TRY(step.draw(*warper_, src, &src, cam, nullptr, nullptr, frame_, st));
+    HW_TRY(step.draw(engine_->warper(), src, &src, cam, nullptr, nullptr, engine_->frame(), st));
     long long drawn = 0;  // the hole pass too (its first, cold draw is this one's to pay)
     if (opt_.renderHoles) HW_TRY(renderHoles(cam, nullptr, nullptr, &drawn));
     ms = sw.ms();
@@ -506,12 +492,11 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
     frameWaitMs_ += cache_->lastWaitMs();
     s.stallMs.push_back(cache_->lastWaitMs());
   }
-  if (sources_.count(k)) return {};
+  if (engine_->has(k)) return {};
   builtThisFrame_ = true;
   warp::WarpStats ws;
-  auto src = warper_->upload((*kf)->keyframe, (*kf)->mesh, &ws);
-  if (!src) return src.error();
-  sources_[k] = std::move(*src);
+  HW_TRY(engine_->upload(k, (*kf)->keyframe, (*kf)->mesh, cams_[static_cast<std::size_t>(k)].eye,
+                         &ws));
   uploadStats_[k] = ws;
   referenceCold_ = true;
   const auto& ms = (*kf)->mesh.stats;
@@ -529,15 +514,6 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
   s.lodBuildMs.push_back(ms.deltaMs + ms.subdivideMs + ms.cornersMs);
   s.onePixelLeaves.push_back(static_cast<double>(ms.onePixelLeaves));
   return {};
-}
-
-NearGeometry WalkLoop::nearGeometry(int k0, int k1) const {
-  NearGeometry near;
-  near.renderer = renderer_.get();
-  near.eyes[0] = cams_[static_cast<std::size_t>(k0)].eye;
-  near.eyes[1] = cams_[static_cast<std::size_t>(k1)].eye;
-  near.eyeCount = k0 == k1 ? 1 : 2;
-  return near;
 }
 
 // The end of a frame's work: ms["frame"] (work), then with a budget and
@@ -589,12 +565,7 @@ void WalkLoop::endFrameWork(json& ms, FrameKind kind) {
 Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
   const Camera& cam = cams_[static_cast<std::size_t>(i)];
   keyframe::RenderStats rs;
-  HW_TRY(renderer_->renderColour(cam, frame_.colour, &rs));
-  showKeyframe(frame_.colour, frame_);
-  if (opt_.inBetween.reprojects()) {  // no depth read back: the next fill copies instead
-    frame_.eyeZ.resize(frame_.colour.width(), frame_.colour.height(), 0.0f);
-    frame_.camera = cam;
-  }
+  HW_TRY(engine_->drawGeometry(cam, &rs));
   const double renderMs = rs.drawMs + rs.readbackMs;
   chooser_.addGeometryMs(renderMs, static_cast<double>(rs.trianglesDrawn));
   ms["geometry"] = renderMs;
@@ -605,7 +576,7 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
   }
   if (trackAge_) {
     Stopwatch sa;
-    const gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    const gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
     ms["age"] = sa.ms();
     fj["stale_pixels"] = as.stale;
     fj["max_age"] = as.maxAge;
@@ -640,11 +611,9 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
   ms = {{"keyframe_render", kf->renderMs}, {"delta", st.deltaMs}, {"subdivide", st.subdivideMs},
         {"corners", st.cornersMs},         {"upload", upload}};
   ms["total"] = kf->renderMs + st.deltaMs + st.subdivideMs + st.cornersMs + upload;
-  showKeyframe(kf->keyframe.colour, frame_);
-  if (opt_.inBetween.reprojects()) setKeyframeDepth(kf->keyframe, frame_);
+  InBetweenStats ns;
+  HW_TRY(engine_->showKeyframe(cam, k0, kf->keyframe, &ns));
   if (opt_.inBetween.nearDistance > 0) {
-    InBetweenStats ns;
-    HW_TRY(step_.drawNear(nearGeometry(k0, k0), cam, kf->keyframe.eyeZ, frame_, ns));
     ms["near_geometry"] = ns.nearMs;
     ms["near_geometry_draw"] = ns.nearDrawMs;
     recorder_.series.nearMs.push_back(ns.nearMs);
@@ -654,7 +623,7 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
   // is already built, instead of on the next frame.
   if (i + 1 < frames_) {
     const int next = schedule_.bracket(i + 1).second;
-    if (next != k0 && !sources_.count(next) && cache_->contains(next)) {
+    if (next != k0 && !engine_->has(next) && cache_->contains(next)) {
       const keyframe::CachedKeyframe* kn = nullptr;
       HW_TRY(getSource(next, &kn));
       // No warm-up draw from it here: measured without a reference render
@@ -664,7 +633,7 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
   }
   if (trackAge_) {
     Stopwatch sa;
-    const gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    const gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
     ms["age"] = sa.ms();
     fj["stale_pixels"] = as.stale;
     fj["max_age"] = as.maxAge;
@@ -676,8 +645,8 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
   fj["holes_before_fallback"] = 0.0;
   fj["holes_after_fallback"] = 0.0;
   if (opt_.reference) {
-    fj["psnr"] = finiteOrNull(psnr(frame_.colour, reference_));  // identical: +inf → null
-    fj["ssim"] = ssim(frame_.colour, reference_);
+    fj["psnr"] = finiteOrNull(psnr(engine_->frame().colour, reference_));  // identical: +inf → null
+    fj["ssim"] = ssim(engine_->frame().colour, reference_);
   } else {
     fj["psnr"] = nullptr;
     fj["ssim"] = nullptr;
@@ -692,7 +661,7 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
   auto& s = recorder_.series;
   Stopwatch sr;
   int cols = 0, rows = 0;
-  gapfill::scoreStaleTiles(frame_.age, opt_.staleAfter, kTile, tileScores_, &cols, &rows);
+  gapfill::scoreStaleTiles(engine_->frame().age, opt_.staleAfter, kTile, tileScores_, &cols, &rows);
   long long refreshed = 0;
   json rects = json::array();
   for (int n = 0; n < WalkOptions::kMaxRefreshRects; ++n) {
@@ -706,7 +675,7 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
     if (workBeforeRefreshMs_ < 0) workBeforeRefreshMs_ = frameSw_.ms();
     Stopwatch one;
     HW_TRY(renderer_->renderColourRect(cam, r, refreshColour_));
-    applyRendered(r, refreshColour_, frame_, step_);
+    applyRendered(r, refreshColour_, engine_->frame(), engine_->step());
     const double t = one.ms();
     refreshCost_.update(r.area(), t);
     s.refreshPredictedOverMeasured.push_back(t > 0 ? predicted / t : std::nan(""));
@@ -717,7 +686,7 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
                      {"predicted_ms", predicted}});
   }
   if (refreshed > 0) {
-    as = gapfill::ageStats(frame_.age);
+    as = gapfill::ageStats(engine_->frame().age);
     ++recorder_.counts.framesRefreshed;
     recorder_.counts.refreshRects += static_cast<long long>(rects.size());
   }
@@ -735,19 +704,16 @@ Status WalkLoop::refresh(const Camera& cam, json& fj, json& ms, gapfill::AgeStat
 // they drew. With `fj` null (the calibration frame) nothing is reported.
 Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles) {
   Stopwatch sw;
-  double budgetMs = std::nan("");
-  std::function<int(int)> maxRects;
-  if (opt_.mode == FrameMode::Auto && opt_.renderHolesBudget > 0) {
+  HoleBudget budget;
+  if (opt_.mode == FrameMode::Auto) {
     const double predicted = chooser_.geometryMs();
-    const double geo = predicted > 0 ? predicted : currentRefMs_;
-    if (geo > 0) {
-      budgetMs = std::min(opt_.renderHolesBudget * geo, geo - frameSw_.ms());
-      maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };
-    }
+    budget.fraction = opt_.renderHolesBudget;
+    budget.geometryMs = predicted > 0 ? predicted : currentRefMs_;
+    budget.frameMsSoFar = frameSw_.ms();
   }
   HolePassResult hr;
-  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, maxRects, &hr));
-  if (hr.drawn > 0) holeCost_.update(hr.drawn, hr.drawMs);
+  double budgetMs = std::nan("");
+  HW_TRY(engine_->renderHoles(cam, &budget, &hr, &budgetMs));
   *renderedHoles = hr.holes;
   if (!fj) return {};
   (*ms)["render_holes"] = sw.ms();
@@ -767,15 +733,10 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   const keyframe::CachedKeyframe* kfb = nullptr;
   HW_TRY(getSource(k0, &kfa));
   HW_TRY(getSource(k1, &kfb));
-  // The keyframe whose eye is nearer is the foreground (paper §2.2 (i)).
-  const int fgPick =
-      gapfill::chooseForeground(cam.eye, kfa->keyframe.camera.eye, kfb->keyframe.camera.eye);
-  const int fgFrame = fgPick == 0 ? k0 : k1, bgFrame = fgPick == 0 ? k1 : k0;
   Stopwatch total;
   InBetweenStats st;
-  const NearGeometry near = nearGeometry(k0, k1);
-  HW_TRY(step_.draw(*warper_, *sources_[fgFrame], sources_[bgFrame].get(), cam,
-                    havePrevious_ ? &previous_ : nullptr, &near, frame_, st));
+  int fgFrame = k0;  // the keyframe whose eye is nearer (paper §2.2 (i))
+  HW_TRY(engine_->warp(cam, k0, k1, st, &fgFrame));
   if (st.fused) {
     if (st.backgroundDrawn) s.backgroundCulled.push_back(st.backgroundCulled);
     ms = {{"warp_a", st.warpAMs}, {"warp_b", st.warpBMs},
@@ -798,11 +759,11 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   if (!trackAge_ && opt_.renderHoles) HW_TRY(renderHoles(cam, &fj, &ms, &renderedHoles));
   if (trackAge_) {
     Stopwatch sa;
-    gapfill::AgeStats as = gapfill::updateAge(havePrevious_ ? &previous_ : nullptr, frame_);
+    gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
     ms["age"] = sa.ms();
     if (opt_.renderHoles) {  // after the ages, which go by holesBefore: its pixels get age 0
       HW_TRY(renderHoles(cam, &fj, &ms, &renderedHoles));
-      if (renderedHoles > 0) as = gapfill::ageStats(frame_.age);
+      if (renderedHoles > 0) as = gapfill::ageStats(engine_->frame().age);
     }
     fj["stale_pixels_before_refresh"] = as.stale;
     if (budgetOn_) HW_TRY(refresh(cam, fj, ms, as));
@@ -814,7 +775,7 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
     // Without ages: the pixels no keyframe layer (nor near geometry) gave,
     // the same count as the ages' (age >= 1 exactly there).
     long long stale = -renderedHoles;
-    for (std::size_t p = 0; p < frame_.holesBefore.size(); ++p) stale += frame_.holesBefore.data()[p];
+    for (std::size_t p = 0; p < engine_->frame().holesBefore.size(); ++p) stale += engine_->frame().holesBefore.data()[p];
     fj["stale_pixels"] = stale;
     s.stalePixels.push_back(static_cast<double>(stale));
   }
@@ -825,8 +786,8 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
     s.fallbackMs.push_back(st.fallbackMs);
   }
   const bool blend = opt_.inBetween.compose.mode == gapfill::ComposeMode::Blend;
-  fj["blended_pixels"] = blend ? json(frame_.blended) : json(nullptr);
-  if (blend) s.blendedPixels.push_back(frame_.blended);
+  fj["blended_pixels"] = blend ? json(engine_->frame().blended) : json(nullptr);
+  if (blend) s.blendedPixels.push_back(engine_->frame().blended);
   recorder_.counts.backgroundSkips += st.backgroundSkipped();
   recorder_.counts.previousSkips += st.previousSkipped;
   fj["is_keyframe"] = false;
@@ -842,10 +803,10 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
   if (opt_.frameBudgetAuto)  // the next frames' budget: this frame's work without its refresh
     autoBudget_->add(ms["frame"].get<double>() -
                      (ms.contains("refresh") ? ms["refresh"].get<double>() : 0.0));
-  fj["holes_before_fallback"] = frame_.holeFractionBefore;
-  fj["holes_after_fallback"] = frame_.holeFractionAfter;
-  s.holesBefore.push_back(frame_.holeFractionBefore);
-  s.holesAfter.push_back(frame_.holeFractionAfter);
+  fj["holes_before_fallback"] = engine_->frame().holeFractionBefore;
+  fj["holes_after_fallback"] = engine_->frame().holeFractionAfter;
+  s.holesBefore.push_back(engine_->frame().holeFractionBefore);
+  s.holesAfter.push_back(engine_->frame().holeFractionAfter);
   s.inBetweenMs.push_back(totalMs);
   s.composeMs.push_back(st.composeMs);
   recordQuality(i, fj, st.fused, st.backgroundSkipped());
@@ -857,9 +818,9 @@ Status WalkLoop::inBetweenFrame(int i, int k0, int k1, json& fj, json& ms) {
 void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
   auto& s = recorder_.series;
   if (opt_.reference) {
-    const ChannelMse m = channelMse(frame_.colour, reference_);
+    const ChannelMse m = channelMse(engine_->frame().colour, reference_);
     const double p = psnrFromMse(m.mean());  // psnr(), from the same sums
-    const double q = ssim(frame_.colour, reference_);
+    const double q = ssim(engine_->frame().colour, reference_);
     fj["psnr"] = finiteOrNull(p);
     fj["ssim"] = q;
     fj["mse"] = {{"r", m.r}, {"g", m.g}, {"b", m.b}};
@@ -868,10 +829,10 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     // How much of the error the holes (holesBefore: no keyframe layer of this
     // pair nor near geometry drew them; filled by the fallback, the refresh or
     // --render-holes) carry, and the PSNR of the other pixels.
-    const std::size_t n = frame_.colour.size();
-    if (frame_.holesBefore.size() == n && reference_.size() == n) {
+    const std::size_t n = engine_->frame().colour.size();
+    if (engine_->frame().holesBefore.size() == n && reference_.size() == n) {
       const auto staleCount = static_cast<std::size_t>(
-          std::count_if(frame_.holesBefore.data(), frame_.holesBefore.data() + n,
+          std::count_if(engine_->frame().holesBefore.data(), engine_->frame().holesBefore.data() + n,
                         [](std::uint8_t h) { return h != 0; }));
       const std::size_t drawn = n - staleCount;
       // Summed squared errors over R, G, B: integers (channelMse sums exactly),
@@ -879,7 +840,7 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
       const double total = std::round(3.0 * m.mean() * static_cast<double>(n));
       const double staleErr =
           staleCount > 0
-              ? std::round(3.0 * channelMse(frame_.colour, reference_, frame_.holesBefore).mean() *
+              ? std::round(3.0 * channelMse(engine_->frame().colour, reference_, engine_->frame().holesBefore).mean() *
                            static_cast<double>(staleCount))
               : 0.0;
       const double pd =
@@ -898,10 +859,10 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
   // Pixels whose colour came from a large leaf of either layer (the ones
   // subdivision changes; previous-frame fill, near objects, refresh: not).
   // Unknown with the depth merge, which does not say which layer won.
-  if (wopt_.markLargeQuads &&
+  if (engine_->warpOptions().markLargeQuads &&
       (fused || opt_.inBetween.compose.mode == gapfill::ComposeMode::Overlay)) {
-    warp::Layer& layerA = step_.layerA();
-    const warp::Layer& layerB = step_.layerB();
+    warp::Layer& layerA = engine_->step().layerA();
+    const warp::Layer& layerB = engine_->step().layerB();
     Image<std::uint8_t>& large = layerA.largeQuad;
     if (!fused && !bgSkipped)
       for (std::size_t p = 0; p < large.size(); ++p)
@@ -912,7 +873,7 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     fj["large_quad_pixels"] = count;
     s.largeQuadPixels.push_back(static_cast<double>(count));
     const double pl =
-        opt_.reference ? psnrCapped(frame_.colour, reference_, large) : std::nan("");
+        opt_.reference ? psnrCapped(engine_->frame().colour, reference_, large) : std::nan("");
     fj["psnr_large_quads"] = finiteOrNull(pl);  // NaN: no such pixel or no reference
     if (std::isfinite(pl)) s.psnrLargeQuads.push_back(pl);
   } else {
@@ -927,22 +888,21 @@ void WalkLoop::recordQuality(int i, json& fj, bool fused, bool bgSkipped) {
     ++nextStrip_;
   }
   if (writing_ && opt_.reference && strip) {
-    const Image<Rgba8> diff = diffImage(frame_.colour, reference_, 4);
+    const Image<Rgba8> diff = diffImage(engine_->frame().colour, reference_, 4);
     const Image<Rgba8> holes =
-        maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{30, 30, 30, 255});
+        maskToImage(engine_->frame().holesBefore, Rgba8{255, 40, 40, 255}, Rgba8{30, 30, 30, 255});
     recorder_.strips.push_back(
-        hstack({&reference_, &frame_.colour, &diff, &holes}, 4, Rgba8{255, 255, 255, 255}));
+        hstack({&reference_, &engine_->frame().colour, &diff, &holes}, 4, Rgba8{255, 255, 255, 255}));
     recorder_.stripInfo.push_back({{"frame", i},
                                    {"psnr", fj["psnr"]},
                                    {"ssim", fj["ssim"]},
-                                   {"holes_before_fallback", frame_.holeFractionBefore}});
+                                   {"holes_before_fallback", engine_->frame().holeFractionBefore}});
   }
 }
 
 // Drop GPU copies of keyframes no later frame can use.
 void WalkLoop::releaseBefore(int k0) {
-  for (auto it = sources_.begin(); it != sources_.end();)
-    it = it->first < k0 ? sources_.erase(it) : std::next(it);
+  engine_->releaseBefore(k0);
   for (auto it = uploadStats_.begin(); it != uploadStats_.end();)
     it = it->first < k0 ? uploadStats_.erase(it) : std::next(it);
   cache_->releaseBefore(k0);
@@ -1002,17 +962,16 @@ Status WalkLoop::frame(int i) {
   fj["reference_ms"] = opt_.reference ? json(currentRefMs_) : json(nullptr);
   fj["ms"] = ms;
   if (writing_ && opt_.saveFrames) {
-    HW_TRY(writePng(opt_.outDir + "/frames/" + frameName(i), frame_.colour));
+    HW_TRY(writePng(opt_.outDir + "/frames/" + frameName(i), engine_->frame().colour));
     HW_TRY(writePng(opt_.outDir + "/holes/" + frameName(i),
-                    maskToImage(frame_.holesBefore, Rgba8{255, 40, 40, 255},
+                    maskToImage(engine_->frame().holesBefore, Rgba8{255, 40, 40, 255},
                                 Rgba8{0, 0, 0, 255})));
   }
   if (kind == FrameKind::Warp && fj["reference_ms"].is_number())
     recorder_.series.speedup.push_back(fj["reference_ms"].get<double>() /
                                        fj["ms"]["total"].get<double>());
   HW_TRY(recorder_.addFrame(std::move(fj)));
-  std::swap(previous_, frame_);
-  havePrevious_ = true;
+  engine_->present();
   releaseBefore(k0);
   recorder_.counts.glErrors += gl::drainGlErrors();
   // The soak's sample (scripts/soak.sh), every 500th frame, at a quiet
@@ -1053,6 +1012,7 @@ Result<WalkResult> WalkLoop::run() {
                           &result.report));
   result.strips = std::move(recorder_.strips);
   result.frameTimes = recorder_.frameTimes.take();
+  result.frameTimes.floorMs = floor_.twoLayersMs;
   return result;
 }
 
@@ -1162,6 +1122,17 @@ void WalkLoop::summariseTiming(json& s) const {
   s["frame_ms_p95_over_median"] = ratio(r.frameMs);
   s["in_between_frame_ms"] = seriesStats(r.inBetweenFrameMs);
   s["in_between_frame_ms_p95_over_median"] = ratio(r.inBetweenFrameMs);
+  s["floor_ms"] = {{"one_layer", floor_.oneLayerMs},
+                   {"two_layers", floor_.twoLayersMs},
+                   {"draws", floor_.reps}};
+  {
+    const std::vector<double> ib = r.inBetweenFrameMs.values();
+    const double fl = floor_.twoLayersMs;
+    s["in_between_frame_over_floor"] =
+        ib.empty() || !(fl > 0) ? json(nullptr)
+                                : json{{"median", finiteOrNull(median(ib) / fl)},
+                                       {"p95", finiteOrNull(percentile(ib, 95) / fl)}};
+  }
   s["keyframe_stalls"] = cache_->stalls() - warmupStalls_;
   s["keyframe_warmup_ms"] = warmupMs_;
   s["keyframe_stall_ms"] = seriesStats(r.stallMs);

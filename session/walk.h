@@ -142,6 +142,7 @@ struct FrameTimes {
   std::vector<double> intervalMs;   // ms.interval (work + pacing wait)
   std::vector<double> budgetMs;     // the frame's budget; 0 = none
   std::vector<double> referenceMs;  // geometry render at the same camera; NaN without reference
+  double floorMs = -1;  // the fill floor: two layers of one full-screen quad (-1: not measured)
 };
 
 struct WalkResult {

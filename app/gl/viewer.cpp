@@ -40,6 +40,7 @@
 #include "session/frame_budget.h"
 #include "session/frame_mode.h"
 #include "session/hole_pass.h"
+#include "session/frame_engine.h"
 #include "session/in_between.h"
 #include "warp/warper.h"
 
@@ -172,7 +173,6 @@ struct Slot {
   int dbFrame = -1;   // the baked keyframe of this path frame; -1: rendered live
   keyframe::Keyframe kf;
   keyframe::QuadMesh mesh;
-  std::unique_ptr<warp::WarpSource> source;
   unsigned lineVbo = 0;
   int lineVertices = 0;
 };
@@ -201,6 +201,9 @@ struct FrameStats {
   double warpAMs = 0, warpBMs = 0, composeMs = 0;
   int quadsA = 0, quadsB = 0, layers = 0;
   double holesBefore = 0, holesAfter = 0;
+  // The hole pass: rectangles drawn, those left out by its budget, its ms.
+  int holeRects = 0, holeRectsOverBudget = 0;
+  double holesMs = 0;
   // Drawn by the geometry renderer; else hybrid: a keyframe frame when one
   // was rendered, read or taken from the worker in it (its cost is the
   // keyframe's), otherwise warped.
@@ -223,6 +226,8 @@ struct FrameRecord {
        stalled = false;
   int layers = 0;
   session::FrameKind kind = session::FrameKind::Warp;
+  int holeRects = 0, holeRectsOverBudget = 0;  // the hole pass (FrameStats)
+  double holesMs = 0;
 };
 
 class Viewer {
@@ -316,8 +321,10 @@ class Viewer {
   std::vector<FrameRecord> records_;
   GLFWwindow* win_ = nullptr;
   InputQueue input_;
-  std::unique_ptr<keyframe::GeometryRenderer> renderer_;
-  std::unique_ptr<warp::Warper> warper_;
+  // Renderer, warper, keyframes on the GPU (by slot serial), in-between step,
+  // hole pass and the frames: the walk's frame engine.
+  std::unique_ptr<session::FrameEngine> engine_;
+  keyframe::GeometryRenderer* renderer_ = nullptr;  // the engine's
   keyframe::LodBuilder lod_;
   keyframe::LodOptions lodOptions_;
   gl::Program displayProg_, lineProg_, hudProg_;
@@ -365,10 +372,6 @@ class Viewer {
   double newestSPrev_ = 0;
   long newestSerialPrev_ = -1;
   bool moving_ = false;
-  session::InBetweenStep step_{session::InBetweenOptions{}};  // the walk's in-between step
-  session::HolePass holePass_;  // opt_.renderHoles
-  gapfill::Frame frame_, previous_;
-  bool havePrevious_ = false;
   KeyframeStats lastKeyframe_;
   FrameStats stats_;
   int foregroundSlot_ = -1;
@@ -396,6 +399,7 @@ class Viewer {
   keyframe::CachedKeyframe dbScratch_;
   int onBakedPath_ = -1;  // last frame's state (1 baked, 0 live, -1 none yet) for messages
   Stopwatch clock_;
+  Stopwatch frameWork_;  // this frame's work so far (the hole pass's budget)
 };
 
 Status Viewer::setUp() {
@@ -437,15 +441,12 @@ Status Viewer::setUp() {
   glfwSetKeyCallback(win_, keyCallback);
   glfwSwapInterval(0);
 
-  auto r = keyframe::GeometryRenderer::create(scene_);
-  if (!r) return r.error();
-  renderer_ = std::move(*r);
-  warp::WarpOptions wopt;
-  wopt.writeEyeZ = false;  // overlay composition does not read it
-  wopt.markLargeQuads = false;  // only the walk's psnr_large_quads reads it
-  auto w = warp::Warper::create(wopt);
-  if (!w) return w.error();
-  warper_ = std::move(*w);
+  // The overlay composition needs no eye z; the large-leaf mask feeds only
+  // the walk's psnr_large_quads.
+  auto engine = session::FrameEngine::create(scene_, session::WalkOptions{}, false, false);
+  if (!engine) return engine.error();
+  engine_ = std::move(*engine);
+  renderer_ = &engine_->renderer();
   lodOptions_ = opt_.lod;
 
   auto dp = gl::Program::build("viewer display", kDisplayVs, kDisplayFs);
@@ -566,7 +567,7 @@ Status Viewer::setUp() {
   // geometry frame of 21 ms, 3.6 ms after). One untimed render at the first
   // camera, as part of loading (about 250 ms on indoor:1M), so the geometry
   // renders the chooser measures are warm.
-  if (autoMode_) HW_TRY(renderer_->renderColour(sized(base_), frame_.colour));
+  if (autoMode_) HW_TRY(renderer_->renderColour(sized(base_), engine_->frame().colour));
   // Per-frame records (56 bytes each) for the exit summary and --frame-stats.
   records_.reserve(static_cast<std::size_t>(std::max(opt_.exitAfterFrames, 4096)));
   for (char c : opt_.keys) charCallback(win_, static_cast<unsigned char>(c));
@@ -692,10 +693,8 @@ Status Viewer::takeFromWorker(FrameStats& st, bool wait) {
 void Viewer::releaseGl() {
   if (!ctx_) return;
   ctx_->makeCurrent();
-  for (Slot& s : slots_) {
-    s.source.reset();
+  for (Slot& s : slots_)
     if (s.lineVbo) glDeleteBuffers(1, &s.lineVbo);
-  }
   const unsigned vaos[] = {emptyVao_, lineVao_, hudVao_};
   for (unsigned v : vaos)
     if (v) glDeleteVertexArrays(1, &v);
@@ -708,8 +707,8 @@ void Viewer::releaseGl() {
   displayProg_ = {};
   lineProg_ = {};
   hudProg_ = {};
-  warper_.reset();
-  renderer_.reset();
+  renderer_ = nullptr;
+  engine_.reset();
 }
 
 Status Viewer::resize(int w, int h) {
@@ -720,11 +719,11 @@ Status Viewer::resize(int w, int h) {
   glBindTexture(GL_TEXTURE_2D, holeTex_);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, w, h, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
   for (Slot& s : slots_) s.valid = false;
-  havePrevious_ = false;
+  engine_->forgetPrevious();
   overlaySerial_ = -1;
-  frame_.colour.resize(w, h);
-  frame_.holesBefore.resize(w, h);
-  frame_.valid.resize(w, h);
+  engine_->frame().colour.resize(w, h);
+  engine_->frame().holesBefore.resize(w, h);
+  engine_->frame().valid.resize(w, h);
   return gl::checkGlError("viewer resize");
 }
 
@@ -799,7 +798,7 @@ void Viewer::handleChar(unsigned c, bool flying) {
     case 'g':
       autoMode_ = false;  // the user's choice from now on
       hybrid_ = !hybrid_;
-      havePrevious_ = false;
+      engine_->forgetPrevious();
       message(hybrid_ ? "hybrid rendering" : "geometry rendering");
       break;
     case 'o':
@@ -1052,10 +1051,9 @@ Status Viewer::readKeyframe(Slot& slot, int frame) {
 // GPU copy and wireframe lines of a slot whose keyframe and mesh are set.
 Status Viewer::finishSlot(Slot& slot) {
   Stopwatch sw;
-  slot.source.reset();
-  auto src = warper_->upload(slot.kf, slot.mesh);
-  if (!src) return src.error();
-  slot.source = std::move(*src);
+  engine_->release(static_cast<int>(slot.serial));
+  HW_TRY(engine_->upload(static_cast<int>(serial_ + 1), slot.kf, slot.mesh, slot.kf.camera.eye,
+                         nullptr));
   // Quad outlines for the wireframe view: 4 edges, 8 vertices per quad.
   lineScratch_.clear();
   for (const keyframe::Quad& q : slot.mesh.quads)
@@ -1298,7 +1296,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
   // A keyframe rendered at this very camera is the frame itself.
   if (fg.kf.camera.eye == cam_.eye && fg.kf.camera.forward == cam_.forward &&
       fg.kf.camera.width == width_ && fg.kf.camera.height == height_) {
-    session::showKeyframe(fg.kf.colour, frame_);
+    session::showKeyframe(fg.kf.colour, engine_->frame());
     st.direct = true;
     st.layers = 0;
     st.quadsA = fg.mesh.stats.quads;
@@ -1308,12 +1306,22 @@ Status Viewer::renderHybrid(FrameStats& st) {
   // pass, the background only where the foreground left pixels, then the
   // previous frame where both miss.
   session::InBetweenStats is;
-  HW_TRY(step_.draw(*warper_, *fg.source,
-                    b >= 0 ? slots_[static_cast<std::size_t>(b)].source.get() : nullptr, cam_,
-                    havePrevious_ ? &previous_ : nullptr, nullptr, frame_, is));
+  HW_TRY(engine_->warp(cam_, static_cast<int>(fg.serial),
+                       b >= 0 ? static_cast<int>(slots_[static_cast<std::size_t>(b)].serial) : -1,
+                       is, nullptr));
   if (opt_.renderHoles) {
+    // In auto mode within the walk's budget (a fraction of a geometry frame).
+    session::HoleBudget budget;
+    if (autoMode_) {
+      budget.fraction = opt_.renderHolesBudget;
+      budget.geometryMs = chooser_.geometryMs();
+      budget.frameMsSoFar = frameWork_.ms();
+    }
     session::HolePassResult hr;
-    HW_TRY(holePass_.run(*renderer_, cam_, frame_, step_, {}, &hr));
+    HW_TRY(engine_->renderHoles(cam_, &budget, &hr));
+    st.holeRects = hr.drawn;
+    st.holeRectsOverBudget = hr.wanted - hr.drawn;
+    st.holesMs = hr.drawMs;
   }
   st.warpAMs = is.warpAMs;
   st.warpBMs = is.warpBMs + is.readbackMs;
@@ -1322,8 +1330,8 @@ Status Viewer::renderHybrid(FrameStats& st) {
   st.layers = b >= 0 ? 2 : 1;
   st.backgroundSkipped = b >= 0 && is.backgroundSkipped();
   st.composeMs = is.composeMs;
-  st.holesBefore = frame_.holeFractionBefore;
-  st.holesAfter = frame_.holeFractionAfter;
+  st.holesBefore = engine_->frame().holeFractionBefore;
+  st.holesAfter = engine_->frame().holeFractionAfter;
   return {};
 }
 
@@ -1343,7 +1351,7 @@ void Viewer::chooseMode(bool* probe) {
   if (++framesSinceChoice_ < kAutoFrames) {
     if (hybrid_ && chooser_.giveUp()) {
       hybrid_ = false;
-      havePrevious_ = false;
+      engine_->forgetPrevious();
       ++autoSwitches_;
       if (firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
       message("auto: geometry (hybrid frames cost more; from frame " +
@@ -1356,7 +1364,7 @@ void Viewer::chooseMode(bool* probe) {
   const bool next = chooser_.warpNext(hybrid_, kAutoFrames);
   if (next != hybrid_) {
     hybrid_ = next;
-    havePrevious_ = false;
+    engine_->forgetPrevious();
     ++autoSwitches_;
     if (!hybrid_ && firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
     message(std::string(hybrid_ ? "auto: hybrid" : "auto: geometry") +
@@ -1387,7 +1395,8 @@ void Viewer::recordCost(const FrameStats& st, double workMs) {
 }
 
 Status Viewer::renderFrame() {
-  Stopwatch work;
+  frameWork_.restart();
+  Stopwatch& work = frameWork_;
   bool probe = false;
   chooseMode(&probe);
   FrameStats st;
@@ -1397,15 +1406,15 @@ Status Viewer::renderFrame() {
   } else {
     keyframe::RenderStats rs;
     if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    const Status s = renderer_->renderColour(cam_, frame_.colour, &rs);
+    const Status s = renderer_->renderColour(cam_, engine_->frame().colour, &rs);
     if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     HW_TRY(s);
-    frame_.holesBefore.fill(0);
-    frame_.valid.fill(1);
-    frame_.holeFractionBefore = frame_.holeFractionAfter = 0;
+    engine_->frame().holesBefore.fill(0);
+    engine_->frame().valid.fill(1);
+    engine_->frame().holeFractionBefore = engine_->frame().holeFractionAfter = 0;
     st.geometryMs = rs.drawMs + rs.readbackMs;
     st.trianglesDrawn = rs.trianglesDrawn;
-    if (probe) havePrevious_ = false;
+    if (probe) engine_->forgetPrevious();
   }
   // The first frame is the load (its keyframe the first), not a cost to predict from.
   if (autoMode_ && frameIndex_ > 0) recordCost(st, work.ms());
@@ -1423,7 +1432,7 @@ Status Viewer::renderFrame() {
 Status Viewer::computePsnr() {
   Stopwatch sw;
   HW_TRY(renderer_->renderColour(cam_, reference_));
-  const double p = psnr(frame_.colour, reference_);
+  const double p = psnr(engine_->frame().colour, reference_);
   std::snprintf(psnrText_, sizeof psnrText_, "PSNR %.2f dB vs geometry (%s, frame %ld)",
                 std::isfinite(p) ? p : 99.0, hybrid_ ? "hybrid" : "geometry", frameIndex_);
   if (!std::isfinite(p))
@@ -1558,13 +1567,13 @@ void Viewer::drawWindow() {
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, colourTex_);
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
-                  frame_.colour.data());
+                  engine_->frame().colour.data());
   const bool holes = holeMask_ && hybrid_;
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, holeTex_);
   if (holes)
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE,
-                    frame_.holesBefore.data());
+                    engine_->frame().holesBefore.data());
   displayProg_.use();
   glUniform1i(uShowHoles_, holes ? 1 : 0);
   glBindVertexArray(emptyVao_);
@@ -1697,6 +1706,9 @@ Status Viewer::run() {
     rec.stalled = stats_.stalledOnWorker;
     rec.layers = stats_.hybrid ? stats_.layers : -1;
     rec.kind = stats_.kind();
+    rec.holeRects = stats_.holeRects;
+    rec.holeRectsOverBudget = stats_.holeRectsOverBudget;
+    rec.holesMs = stats_.holesMs;
     rec.budgetMs = budgetMs;
     ++frameIndex_;
     const bool last = opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames;
@@ -1719,12 +1731,11 @@ Status Viewer::run() {
           frameStart + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                            std::chrono::duration<double, std::milli>(budgetMs)));
     if (autoBudget && frameIndex_ > 1) budget.add(rec.workMs);
-    std::swap(previous_, frame_);
-    havePrevious_ = true;
-    if (frame_.colour.width() != width_ || frame_.colour.height() != height_) {
-      frame_.colour.resize(width_, height_);
-      frame_.holesBefore.resize(width_, height_);
-      frame_.valid.resize(width_, height_);
+    engine_->present();
+    if (engine_->frame().colour.width() != width_ || engine_->frame().colour.height() != height_) {
+      engine_->frame().colour.resize(width_, height_);
+      engine_->frame().holesBefore.resize(width_, height_);
+      engine_->frame().valid.resize(width_, height_);
     }
     dt = frameClock.lap() / 1000.0;
     const double ms = dt * 1000.0;
@@ -1733,9 +1744,10 @@ Status Viewer::run() {
     frameMsSmoothed_ = frameMsSmoothed_ > 0 ? 0.9 * frameMsSmoothed_ + 0.1 * ms : ms;
   }
   if (frameIndex_ > 0) {
-    // Closed by the user: the frame in `previous_` was the last one shown.
+    // Closed by the user: the engine's previous frame was the last one shown;
+    // presenting again swaps it back into frame().
     if (!(opt_.exitAfterFrames > 0 && frameIndex_ >= opt_.exitAfterFrames)) {
-      std::swap(previous_, frame_);
+      engine_->present();
       drawWindow();
     }
     if (!opt_.screenshotPath.empty()) {
@@ -1814,13 +1826,15 @@ void Viewer::printFrameSummary() const {
 Status Viewer::writeFrameStats() const {
   std::string csv =
       "frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,"
-      "worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms,mode\n";
-  char line[220];
+      "worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms,mode,hole_rects,"
+      "hole_rects_over_budget,holes_ms\n";
+  char line[260];
   for (const FrameRecord& r : records_) {
-    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%s\n", r.frame,
-                  r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
+    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%s,%d,%d,%.3f\n",
+                  r.frame, r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
                   r.worker ? 1 : 0, r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0,
-                  r.layers, r.workMs, r.budgetMs, session::frameKindName(r.kind));
+                  r.layers, r.workMs, r.budgetMs, session::frameKindName(r.kind), r.holeRects,
+                  r.holeRectsOverBudget, r.holesMs);
     csv += line;
   }
   return writeFileAtomic(opt_.frameStatsPath, csv);
@@ -1833,6 +1847,7 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->lod = walk.lod;
   out->asyncKeyframes = walk.asyncKeyframes;
   out->renderHoles = walk.renderHoles;
+  out->renderHolesBudget = walk.renderHolesBudget;
 }
 
 int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,

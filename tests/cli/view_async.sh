@@ -34,7 +34,7 @@ check "summary has median / p95 / max frame ms" \
   grep -Eq "frame ms over frames 1..15: median [0-9.]+, p95 [0-9.]+, max [0-9.]+" async.out
 check "sync summary counts its stalls" grep -Eq "keyframes in the frame: [1-9][0-9]* stalls" sync.out
 check "frame stats: header + 16 rows" test "$(wc -l < async.csv)" -eq 17
-check "  columns" grep -q "^frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms,mode$" async.csv
+check "  columns" grep -q "^frame,play_frame,ms,keyframe_ms,keyframe_rendered,keyframe_read,worker_keyframe,worker_requested,worker_waited,worker_stall,layers,work_ms,budget_ms,mode,hole_rects,hole_rects_over_budget,holes_ms$" async.csv
 check "  frames 0..15 play path frames 0..15" \
   test "$(awk -F, 'NR > 1 && $1 == NR - 2 && $2 == NR - 2' async.csv | wc -l)" -eq 16
 # (Whether a later frame is lost and renders one depends on the worker's speed.)
