@@ -139,12 +139,18 @@ Result<PublishResult> publish(const PublishOptions& o) {
   want.height = r.height;
   if (auto st = db.checkMatches(want, {"path_hash", "frames", "resolution"}); !st)
     return makeError(st.error().message +
-                     (o.pathFile.empty() ? "; give the baked path with --path" : ""));
+                     "; publish needs the camera path the database was baked from (--path)");
   HW_TRY(db.checkSchedule(bakeKeyframeList(path, r.frames)));
   std::vector<Camera> cams = path.cameras();
   cams.resize(static_cast<std::size_t>(r.frames));
   db.setExpectation({[&cams](int f) { return cams[static_cast<std::size_t>(f)]; }, depthMode});
 
+  // Every keyframe checked before anything is written: a damaged database
+  // leaves no half-published folder.
+  for (int frame : db.keyframeFrames()) {
+    keyframe::CachedKeyframe kf;
+    HW_TRY(db.read(frame, kf));
+  }
   HW_TRY(ensureWritableDir(o.outDir));
   std::error_code ec;
   fs::remove(o.outDir + "/manifest.json", ec);
