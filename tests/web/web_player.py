@@ -10,8 +10,8 @@ must show a message naming the file and what was expected, and draw nothing.
 
 Python standard library only (the DevTools WebSocket client is below).
 
-Usage: web_player.py HYBRIDWALK SOURCE_DIR [--scene S] [--keep DIR]
-       [--screenshot PNG] [--timing JSON] [--path FILE] [--frames N]
+Usage: web_player.py HYBRIDWALK SOURCE_DIR [--scene S] [--path FILE] [--frames N]
+       [--size WxH] [--keep DIR] [--screenshot PNG] [--timing JSON] [--no-tamper]
 """
 import argparse
 import base64
@@ -284,20 +284,14 @@ def run(cmd, name, cwd):
     return r
 
 
-SMALL_PATH = {"width": 160, "height": 120, "fov_y_deg": 60, "near": 0.05, "far": 100, "up": [0, 1, 0],
-              "keys": [{"eye": [0, 1.6, 4], "look_at": [0, 1.4, 0]},
-                       {"eye": [1, 1.6, 1], "look_at": [0, 1.4, -3]},
-                       {"eye": [2.5, 1.7, -1], "look_at": [4, 1.5, -4]}],
-              "frames": 25, "keyframe_every": 6}
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("hybridwalk")
     ap.add_argument("source_dir")
     ap.add_argument("--scene", default="indoor")
-    ap.add_argument("--path", help="camera path JSON (default: a 160x120, 25-frame indoor walk)")
-    ap.add_argument("--frames", type=int, default=0)
+    ap.add_argument("--path", help="camera path JSON (default: the scene's built-in path)")
+    ap.add_argument("--frames", type=int, default=31, help="frames of the path walked (0 = all)")
+    ap.add_argument("--size", default="192x144", help="frame size WxH ('' = the path's)")
     ap.add_argument("--keep", help="work here and keep the files")
     ap.add_argument("--screenshot", help="also save a screenshot of the playing page here")
     ap.add_argument("--timing", help="time the page's frames (3 rounds) and write JSON here")
@@ -306,14 +300,17 @@ def main():
     hw = os.path.abspath(a.hybridwalk)
     work = os.path.abspath(a.keep) if a.keep else tempfile.mkdtemp(prefix="hw-web-")
     os.makedirs(work, exist_ok=True)
-    path = os.path.abspath(a.path) if a.path else os.path.join(work, "path.json")
-    if not a.path:
-        json.dump(SMALL_PATH, open(path, "w"))
-    common = ["--scene", a.scene, "--path", path] + (["--frames", str(a.frames)] if a.frames else [])
+    common = ["--scene", a.scene] + (["--path", os.path.abspath(a.path)] if a.path else [])
+    common += ["--frames", str(a.frames)] if a.frames else []
+    if a.size:
+        sw, sh = a.size.split("x")
+        common += ["--width", sw, "--height", sh]
     run([hw, "bake", *common, "--out", "db", "--quiet"], "bake", work)
     run([hw, "walk", *common, "--keyframes", "db", "--mode", "hybrid", "--no-render-holes",
          "--no-reference", "--save-frames", "--strips", "0", "--out", "walk", "--quiet"], "walk --keyframes", work)
-    run([hw, "publish", "--keyframes", "db", "--path", path, "--out", "site"], "publish", work)
+    # Without --path: the scene's built-in path at the database's size.
+    run([hw, "publish", "--keyframes", "db", "--out", "site"] + (["--path", os.path.abspath(a.path)] if a.path else []),
+        "publish", work)
     site = os.path.join(work, "site")
     for f in ("index.html", "player.js", "manifest.json"):
         check(f"site has {f}", os.path.exists(os.path.join(site, f)))
@@ -356,11 +353,15 @@ def main():
             t.update({"width": w, "height": h, "frames": frames, "scene": a.scene})
             json.dump(t, open(a.timing, "w"), indent=1)
             print("page timing:", json.dumps(t))
-        if a.screenshot:
-            dt.call("Emulation.setDeviceMetricsOverride", width=1000, height=800, deviceScaleFactor=1, mobile=False)
-            dt.evaluate("new Promise(r => setTimeout(r, 500))")
-            shot = dt.call("Page.captureScreenshot", format="png")
+        if a.screenshot:  # the page as a viewer opens it, playing from a frame between keyframes
+            sp = chrome.page(f"{base}/site/index.html?frame={frames * 3 // 8}")
+            wait_ready(sp)
+            sp.call("Emulation.setDeviceMetricsOverride", width=820, height=640, deviceScaleFactor=1, mobile=False)
+            sp.evaluate("new Promise(r => setTimeout(r, 400))")
+            shot = sp.call("Page.captureScreenshot", format="png")
             open(a.screenshot, "wb").write(base64.b64decode(shot["data"]))
+            errs = sp.console_errors()
+            check("no console errors while playing", not errs, "; ".join(errs)[:800])
         errs = dt.console_errors()
         check("no console errors", not errs, "; ".join(errs)[:800])
 
