@@ -291,7 +291,7 @@ def main():
     ap.add_argument("--scene", default="indoor")
     ap.add_argument("--path", help="camera path JSON (default: the scene's built-in path)")
     ap.add_argument("--frames", type=int, default=31, help="frames of the path walked (0 = all)")
-    ap.add_argument("--size", default="192x144", help="frame size WxH ('' = the path's)")
+    ap.add_argument("--size", default="256x192", help="frame size WxH ('' = the path's)")
     ap.add_argument("--keep", help="work here and keep the files")
     ap.add_argument("--screenshot", help="also save a screenshot of the playing page here")
     ap.add_argument("--timing", help="time the page's frames (3 rounds) and write JSON here")
