@@ -348,6 +348,21 @@ def main():
               f"worst {worst:.2f} dB at frame {worst_at}")
         # The page's own player: scrub back, then fly a little (keys), no errors.
         dt.evaluate("window.hwRender(0), window.hwRender(%d), 1" % (frames // 2))
+        # Flying off the path with the keys and back (space), as a viewer does.
+        def key(k, code, kind):
+            dt.call("Input.dispatchKeyEvent", type=kind, key=k, code=code,
+                    **({"text": k} if kind == "keyDown" and len(k) == 1 else {}))
+        key("w", "KeyW", "keyDown")
+        dt.evaluate("new Promise(r => setTimeout(r, 300))")
+        key("w", "KeyW", "keyUp")
+        dt.evaluate("new Promise(r => setTimeout(r, 100))")
+        hud = dt.evaluate("document.getElementById('hud').textContent")
+        check("W flies off the path", "off the path" in hud and "keyframes" in hud, hud.replace("\n", " | "))
+        key(" ", "Space", "keyDown")
+        key(" ", "Space", "keyUp")
+        dt.evaluate("new Promise(r => setTimeout(r, 200))")
+        hud = dt.evaluate("document.getElementById('hud').textContent")
+        check("space returns to the path", hud.startswith("frame "), hud.replace("\n", " | "))
         if a.timing:
             t = dt.evaluate("window.hwTime(3)")
             t.update({"width": w, "height": h, "frames": frames, "scene": a.scene})
