@@ -1,14 +1,12 @@
 // The `publish` command: a baked walkthrough as a static web folder
 // (session/publish.h, docs/publish.md).
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "app/cli_common.h"
+#include "app/commands.h"
 #include "session/publish.h"
 
 namespace hw::app {

@@ -1,13 +1,13 @@
 #include "session/publish.h"
 
+#include <stb_image_write.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <vector>
-
 #include <nlohmann/json.hpp>
-#include <stb_image_write.h>
+#include <vector>
 
 #include "core/file_io.h"
 #include "keyframe/keyframe_db.h"
@@ -162,16 +162,11 @@ Result<PublishResult> publish(const PublishOptions& o) {
   }
 
   const Camera& c0 = cams.front();
-  json manifest = {{"format", kPublishFormat},
-                   {"version", kPublishVersion},
-                   {"scene", r.scene},
-                   {"db_checksum", db.index()["index_checksum"]},
-                   {"path_hash", want.pathHash},
-                   {"width", r.width},
-                   {"height", r.height},
-                   {"fov_y_radians", c0.fovYRadians},
-                   {"near", c0.nearPlane},
-                   {"far", c0.farPlane}};
+  json manifest = {{"format", kPublishFormat},   {"version", kPublishVersion},
+                   {"scene", r.scene},           {"db_checksum", db.index()["index_checksum"]},
+                   {"path_hash", want.pathHash}, {"width", r.width},
+                   {"height", r.height},         {"fov_y_radians", c0.fovYRadians},
+                   {"near", c0.nearPlane},       {"far", c0.farPlane}};
   json frames = json::array();
   for (const Camera& c : cams)
     frames.push_back({{"eye", vec3(c.eye)},
@@ -193,8 +188,10 @@ Result<PublishResult> publish(const PublishOptions& o) {
     json meshJ = fileEntry(base + ".mesh", mesh);
     meshJ["quads"] = v.quads;
     meshJ["sky_rects"] = v.skyRects;
-    keyframes.push_back(
-        {{"frame", frame}, {"eye", vec3(kf.keyframe.camera.eye)}, {"colour", colour}, {"mesh", meshJ}});
+    keyframes.push_back({{"frame", frame},
+                         {"eye", vec3(kf.keyframe.camera.eye)},
+                         {"colour", colour},
+                         {"mesh", meshJ}});
   }
   manifest["keyframes"] = std::move(keyframes);
   manifest["frames"] = std::move(frames);
@@ -204,7 +201,8 @@ Result<PublishResult> publish(const PublishOptions& o) {
   const std::string text = manifest.dump(1) + "\n";
   HW_TRY(writeFileAtomic(o.outDir + "/player.js", js));
   HW_TRY(writeFileAtomic(o.outDir + "/index.html", html));
-  HW_TRY(writeFileAtomic(o.outDir + "/manifest.json", text));  // last: a folder without it is incomplete
+  // Last: a folder without manifest.json is incomplete.
+  HW_TRY(writeFileAtomic(o.outDir + "/manifest.json", text));
   r.bytes += html.size() + js.size() + text.size();
   return r;
 }

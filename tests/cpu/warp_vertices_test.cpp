@@ -1,10 +1,10 @@
 // warp/warp_vertices.h: the warper's vertex data as floats (what `publish`
 // writes for the web player).
+#include "warp/warp_vertices.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "warp/warp_vertices.h"
 
 namespace hw::warp {
 namespace {
