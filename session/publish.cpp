@@ -196,9 +196,16 @@ Result<PublishResult> publish(const PublishOptions& o) {
   manifest["keyframes"] = std::move(keyframes);
   manifest["frames"] = std::move(frames);
   r.keyframes = static_cast<int>(manifest["keyframes"].size());
-  const std::string html = webIndexHtml();
   const std::string js = webPlayerJs();
   const std::string text = manifest.dump(1) + "\n";
+  // index.html carries the manifest's size and checksum, so an edited
+  // manifest (a camera, a file's checksum) is caught too.
+  std::string html = webIndexHtml();
+  char sum[48];
+  std::snprintf(sum, sizeof sum, "%zu %08x", text.size(), hw32(text.data(), text.size()));
+  const auto at = html.find("@MANIFEST@");
+  if (at == std::string::npos) return makeError("publish: web/index.html has no @MANIFEST@ (a bug)");
+  html.replace(at, 10, sum);
   HW_TRY(writeFileAtomic(o.outDir + "/player.js", js));
   HW_TRY(writeFileAtomic(o.outDir + "/index.html", html));
   // Last: a folder without manifest.json is incomplete.

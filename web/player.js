@@ -92,12 +92,13 @@ async function fetchBytes(name) {
   return new Uint8Array(await r.arrayBuffer());
 }
 
-function checkFile(entry, bytes) {
+// `entry` as listed by `by` (manifest.json; index.html for the manifest itself).
+function checkFile(entry, bytes, by = 'manifest.json') {
   if (bytes.length !== entry.bytes)
-    throw new LoadError(`${entry.file}: ${bytes.length} bytes, manifest.json says ${entry.bytes} (file ${bytes.length < entry.bytes ? 'truncated' : 'grown'} or replaced)`);
+    throw new LoadError(`${entry.file}: ${bytes.length} bytes, ${by} says ${entry.bytes} (file ${bytes.length < entry.bytes ? 'truncated' : 'grown'} or replaced)`);
   const sum = hex8(hw32(bytes));
   if (sum !== entry.checksum)
-    throw new LoadError(`${entry.file}: checksum ${sum}, manifest.json says ${entry.checksum} (file corrupt or replaced)`);
+    throw new LoadError(`${entry.file}: checksum ${sum}, ${by} says ${entry.checksum} (file corrupt, edited or replaced)`);
 }
 
 // docs/publish.md "Mesh file".
@@ -504,7 +505,13 @@ async function main() {
   window.hwReady = new Promise((res, rej) => { resolveReady = res; rejectReady = rej; });
   window.hwReady.catch(() => {});
   try {
-    const text = new TextDecoder().decode(await fetchBytes('manifest.json'));
+    const manifestBytes = await fetchBytes('manifest.json');
+    const meta = document.querySelector('meta[name="hybridwalk-manifest"]');
+    const [wantBytes, wantSum] = (meta ? meta.content : '').split(' ');
+    if (!/^[0-9]+$/.test(wantBytes || '') || !/^[0-9a-f]{8}$/.test(wantSum || ''))
+      throw new LoadError('index.html: no manifest size and checksum (expected the page hybridwalk publish writes)');
+    checkFile({ file: 'manifest.json', bytes: Number(wantBytes), checksum: wantSum }, manifestBytes, 'index.html');
+    const text = new TextDecoder().decode(manifestBytes);
     let m;
     try {
       m = JSON.parse(text);

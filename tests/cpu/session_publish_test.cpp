@@ -30,6 +30,7 @@ TEST(Publish, ThePageIsEmbeddedWhole) {
   const std::string html = webIndexHtml(), js = webPlayerJs();
   EXPECT_NE(html.find("<script type=\"module\" src=\"player.js\"></script>"), std::string::npos);
   EXPECT_NE(html.find("</html>"), std::string::npos);
+  EXPECT_NE(html.find("content=\"@MANIFEST@\""), std::string::npos);  // publish fills it in
   EXPECT_NE(js.find("window.hwRender"), std::string::npos);
   EXPECT_NE(js.rfind("main();"), std::string::npos);
   EXPECT_GT(js.size(), 8000u);  // more than one embedded piece

@@ -22,6 +22,7 @@ import http.server
 import json
 import math
 import os
+import re
 import shutil
 import socket
 import struct
@@ -96,6 +97,15 @@ def write_png(path, w, h, rgb):
     with open(path, "wb") as f:
         f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
                 chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+
+
+def hw32(data):
+    """docs/publish.md "Checksum: hw32"."""
+    h = 2166136261
+    padded = data + b"\0" * (-len(data) % 4)
+    for (w,) in struct.iter_unpack("<I", padded):
+        h = ((h ^ w) * 16777619) & 0xFFFFFFFF
+    return h ^ (len(data) & 0xFFFFFFFF)
 
 
 def psnr(a, b):
@@ -400,10 +410,15 @@ def main():
             ("tampered colour", kf["colour"]["file"], lambda b: b[:60] + bytes([b[60] ^ 4]) + b[61:],
              [kf["colour"]["file"], "checksum"]),
             ("truncated manifest", "manifest.json", lambda b: b[:len(b) // 2],
-             ["manifest.json", "not valid JSON"]),
+             ["manifest.json", "index.html says", "truncated"]),
             ("edited manifest", "manifest.json",
              lambda b: b.replace(b'"quads": %d' % kf["mesh"]["quads"], b'"quads": %d' % (kf["mesh"]["quads"] + 1), 1),
+             ["manifest.json", "checksum", "index.html says"]),
+            ("manifest edited, index.html updated", "manifest.json",
+             lambda b: b.replace(b'"quads": %d' % kf["mesh"]["quads"], b'"quads": %d' % (kf["mesh"]["quads"] + 1), 1),
              [kf["mesh"]["file"], "quads", "manifest.json says"]),
+            ("manifest not JSON, index.html updated", "manifest.json", lambda b: b[:len(b) // 2],
+             ["manifest.json", "not valid JSON"]),
         ]
         for name, file, damage, words in cases:
             bad = os.path.join(work, "bad-" + name.replace(" ", "-"))
@@ -411,6 +426,12 @@ def main():
             shutil.copytree(site, bad)
             raw = open(os.path.join(bad, file), "rb").read()
             open(os.path.join(bad, file), "wb").write(damage(raw))
+            if "index.html updated" in name:  # consistently: the page's own check passes
+                text = open(os.path.join(bad, "manifest.json"), "rb").read()
+                html = open(os.path.join(bad, "index.html")).read()
+                html = re.sub(r'name="hybridwalk-manifest" content="[^"]*"',
+                              f'name="hybridwalk-manifest" content="{len(text)} {hw32(text):08x}"', html)
+                open(os.path.join(bad, "index.html"), "w").write(html)
             d = chrome.page(f"{base}/{os.path.basename(bad)}/index.html")
             state, msg = wait_ready(d)
             shown = d.evaluate("document.getElementById('error').hidden ? '' : document.getElementById('error').textContent")
