@@ -1,0 +1,26 @@
+# Writes OUT, a C++ file defining hw::session::webIndexHtml() and
+# webPlayerJs() from SRC/web/index.html and SRC/web/player.js, so that an
+# installed `hybridwalk publish` needs no data files (session/publish.h).
+set(code "// Generated from web/ by cmake/embed_web.cmake: do not edit.\n#include \"session/publish.h\"\nnamespace hw::session {\n")
+foreach(pair "index.html;webIndexHtml" "player.js;webPlayerJs")
+  list(GET pair 0 file)
+  list(GET pair 1 fn)
+  file(READ "${SRC}/web/${file}" text)
+  string(FIND "${text}" ")hwweb\"" bad)
+  if(NOT bad EQUAL -1)
+    message(FATAL_ERROR "web/${file} holds the raw-string delimiter )hwweb\"")
+  endif()
+  # Raw string literals stay under compilers' limits in 8 KiB pieces.
+  string(LENGTH "${text}" n)
+  set(pieces "")
+  set(i 0)
+  while(i LESS n)
+    string(SUBSTRING "${text}" ${i} 8000 piece)
+    string(APPEND pieces "R\"hwweb(${piece})hwweb\"\n")
+    math(EXPR i "${i} + 8000")
+  endwhile()
+  string(APPEND code "const char* ${fn}() {\n  return\n${pieces};\n}\n")
+endforeach()
+string(APPEND code "}  // namespace hw::session\n")
+file(WRITE "${OUT}.tmp" "${code}")
+file(COPY_FILE "${OUT}.tmp" "${OUT}" ONLY_IF_DIFFERENT)
