@@ -118,37 +118,28 @@ Status FreeFrames::draw(const Camera& cam, FrameInfo* info) {
                                  engine_->previous().colour.height() != cam.height))
     engine_->forgetPrevious();
   const bool moving = havePrevCam_ && poseDistance(cam, prevCam_) > 1e-9;
-  int nearest = -1, newest = -1, useful = 0;
-  double sNearest = 1e300, s[2] = {1e300, 1e300};
+  SurveySlot in[2];
   for (int i = 0; i < 2; ++i) {
     const Slot& sl = slots_[static_cast<std::size_t>(i)];
-    if (!sl.valid) continue;
-    s[i] = poseDistance(sl.kf->keyframe.camera, cam);
-    if (s[i] < sNearest) nearest = i, sNearest = s[i];
-    if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
-    if (s[i] < kFreeUseless) ++useful;
+    in[i] = {sl.valid, sl.serial, sl.valid ? poseDistance(sl.kf->keyframe.camera, cam) : 0.0};
   }
-  const double sNewest = newest >= 0 ? s[newest] : 1e300;
-  const bool receding = newest >= 0 &&
-                        slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_ &&
-                        sNewest > newestSPrev_;
-  const bool lost = nearest < 0 || sNearest > kFreeLost;
-  const bool wanted =
-      moving && (useful < 2 || (nearest == newest && sNewest > kFreePassedNewest && receding));
+  const KeyframeSurvey k = surveyKeyframes(in, moving, newestSerialPrev_, newestSPrev_);
+  const int nearest = k.nearest;
+  const bool lost = k.lost, wanted = k.wanted;
   if (lost) {
     HW_TRY(build(slots_[static_cast<std::size_t>(nearest < 0 ? 0 : 1 - nearest)], cam, info));
   } else if (wanted) {
     const Camera ahead = aheadCamera(prevCam_, cam, 1.0);
-    if (poseDistance(ahead, cam) > kFreePassedNewest)
+    if (poseDistance(ahead, cam) > kPassedNewest)
       HW_TRY(build(slots_[static_cast<std::size_t>(1 - nearest)], ahead, info));
   }
   int a = -1, b = -1;
-  newest = -1;
+  int newest = -1;
   for (int i = 0; i < 2; ++i) {
     const Slot& sl = slots_[static_cast<std::size_t>(i)];
     if (!sl.valid) continue;
     if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
-    if (poseDistance(sl.kf->keyframe.camera, cam) >= kFreeUseless) continue;
+    if (poseDistance(sl.kf->keyframe.camera, cam) >= kUseless) continue;
     (a < 0 ? a : b) = i;
   }
   HW_CHECK(a >= 0);  // a keyframe at the camera was built if none was near

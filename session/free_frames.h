@@ -18,6 +18,7 @@
 #include "scenes/scene.h"
 #include "session/frame_engine.h"
 #include "session/in_between.h"
+#include "session/keyframe_survey.h"
 #include "session/path_frames.h"
 #include "session/walk.h"
 #include "warp/warper.h"
@@ -32,13 +33,6 @@ struct FreeKeyframeOptions {
   double angleDeg = 15.0;
 };
 
-// Pose distance units (the viewer's policy constants): a new keyframe ahead
-// once the camera is farther than kPassedNewest from the newest and moving
-// away from it; keyframes farther than kUseless are not warped; with none
-// within kLost the frame is a keyframe rendered at the camera.
-inline constexpr double kFreePassedNewest = 0.25;
-inline constexpr double kFreeUseless = 2.0;
-inline constexpr double kFreeLost = 1.5;
 
 class FreeFrames {
  public:

@@ -97,6 +97,7 @@ class WalkLoop {
   Status renderHoles(const Camera& cam, json* fj, json* ms, long long* renderedHoles);
   void recordQuality(int i, json& fj, bool fused, bool bgSkipped);
   void endFrameWork(json& ms, FrameKind kind);
+  void recordFreshAge(json& fj, json& ms);
   Status getSource(int k, const keyframe::CachedKeyframe** out);
   void releaseBefore(int k0);
   const gapfill::Frame* previousFrame() const {
@@ -560,6 +561,20 @@ void WalkLoop::endFrameWork(json& ms, FrameKind kind) {
   if (kfWorker_) kfWorker_->hold();
 }
 
+// A frame drawn whole (geometry, or a keyframe shown): with pixel ages, their
+// update; without, no pixel is stale.
+void WalkLoop::recordFreshAge(json& fj, json& ms) {
+  if (!trackAge_) {
+    fj["stale_pixels"] = 0;  // drawn now: nothing from an earlier frame
+    return;
+  }
+  Stopwatch sa;
+  const gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
+  ms["age"] = sa.ms();
+  fj["stale_pixels"] = as.stale;
+  fj["max_age"] = as.maxAge;
+}
+
 // A frame drawn by the geometry renderer: exact, so it is its own reference
 // (one render; psnr null as for identical images, ssim 1).
 Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
@@ -574,15 +589,7 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
     currentRefMs_ = renderMs;
     recorder_.series.referenceMs.push_back(renderMs);
   }
-  if (trackAge_) {
-    Stopwatch sa;
-    const gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
-    ms["age"] = sa.ms();
-    fj["stale_pixels"] = as.stale;
-    fj["max_age"] = as.maxAge;
-  } else {
-    fj["stale_pixels"] = 0;  // drawn now: nothing from an earlier frame
-  }
+  recordFreshAge(fj, ms);
   // Warping the next segment predicted to pay: its keyframes are built ahead.
   const int next = schedule_.bracket(i).second;
   if (asyncKf_ && opt_.mode == FrameMode::Auto && next != i &&
@@ -631,15 +638,7 @@ Status WalkLoop::keyframeFrame(int i, int k0, json& fj, json& ms) {
       // next frame 1.4-5 ms slower on indoor, oa_dm5 and outdoor:1M.
     }
   }
-  if (trackAge_) {
-    Stopwatch sa;
-    const gapfill::AgeStats as = gapfill::updateAge(previousFrame(), engine_->frame());
-    ms["age"] = sa.ms();
-    fj["stale_pixels"] = as.stale;
-    fj["max_age"] = as.maxAge;
-  } else {
-    fj["stale_pixels"] = 0;
-  }
+  recordFreshAge(fj, ms);
   endFrameWork(ms, FrameKind::Keyframe);
   chooser_.addKeyframeMs(ms["frame"].get<double>());
   fj["holes_before_fallback"] = 0.0;
@@ -974,19 +973,9 @@ Status WalkLoop::frame(int i) {
   engine_->present();
   releaseBefore(k0);
   recorder_.counts.glErrors += gl::drainGlErrors();
-  // The soak's sample (scripts/soak.sh), every 500th frame, at a quiet
-  // point: after llvmpipe has let go of the last render's binned triangles
-  // (it frees them only when the context bins its next scene, so after a
-  // geometry frame they are still allocated: 1–10 MiB, by view) and the
-  // heap's free pages are back with the kernel (malloc_trim, as every
-  // keyframe step does; geometry stretches drop no keyframe, so nothing
-  // trims there, and async builds finish between trims: up to 4.3 MiB).
-  // Read without both, the value swung with the frame kinds and the
-  // worker's timing (2.3–3.1 % at 64²), not with what the walk keeps. Live
-  // memory and what the allocator cannot return count as before, so growth
-  // still shows; the keyframe worker's context is not touched (its last
-  // piece, ≤ 8192 triangles, still counts). Evidence and the figures
-  // before: docs/results/2026-12-03/soak/README.md.
+  // The soak's sample (scripts/soak.sh), every 500th frame, at a quiet point:
+  // llvmpipe's binned triangles released and free heap pages returned, so
+  // that what is read is what the walk keeps (docs/notes/soak-sample.md).
   if ((i + 1) % 500 == 0) {
     gl::releaseFinishedRenderMemory();
     returnFreeHeapPages();

@@ -42,6 +42,7 @@
 #include "session/hole_pass.h"
 #include "session/frame_engine.h"
 #include "session/in_between.h"
+#include "session/keyframe_survey.h"
 #include "warp/warper.h"
 
 namespace hw::app {
@@ -53,13 +54,10 @@ constexpr double kShiftFactor = 4.0;
 constexpr double kSpeedStep = 1.5;
 constexpr double kMessageSeconds = 4.0;
 // Keyframe policy, in units of the pose distance s (keyframeDistance and
-// keyframeAngleDeg each count 1): a new keyframe is rendered ahead once the
-// viewer moves away from the newest one by more than kPassedNewest, a
-// keyframe farther than kUseless is not worth warping, and when no keyframe
-// is within kLost the view is re-rendered where it stands.
-constexpr double kPassedNewest = 0.25;
-constexpr double kUseless = 2.0;
-constexpr double kLost = 1.5;
+// keyframeAngleDeg each count 1): session/keyframe_survey.h.
+using session::kLost;
+using session::kPassedNewest;
+using session::kUseless;
 // With the keyframe worker (not lockstep) the keyframe after the newest is
 // requested once the viewer is kEarlyFraction of the way from the older
 // keyframe to the newest (0: as soon as the newest has no successor in
@@ -1144,31 +1142,20 @@ Status Viewer::bakedKeyframes(FrameStats& st, int& a, int& b, bool& used) {
 // the worker's pacing follows the viewer (workerPacingFrames).
 Status Viewer::liveKeyframes(FrameStats& st, int& a, int& b) {
   if (worker_ && !workerEarly_) HW_TRY(takeFromWorker(st, /*wait=*/false));
-  int nearest = -1, newest = -1, useful = 0;
-  double sNearest = 1e300, sNewest = 1e300, sOther = 1e300, sFarthest = 1e300;
-  bool recedingFromNewest = false, wanted = false, lost = true;
+  int nearest = -1, newest = -1;
+  double sNewest = 1e300, sOther = 1e300, sFarthest = 1e300;
+  bool wanted = false, lost = true;
   auto survey = [&] {
-    nearest = -1, newest = -1, useful = 0;
-    sNearest = 1e300;
-    std::array<double, 2> s{1e300, 1e300};
+    session::SurveySlot in[2];
     for (int i = 0; i < 2; ++i) {
       const Slot& sl = slots_[static_cast<std::size_t>(i)];
-      if (!sl.valid) continue;
-      s[static_cast<std::size_t>(i)] = poseDistance(sl.kf.camera, cam_);
-      if (s[static_cast<std::size_t>(i)] < sNearest)
-        nearest = i, sNearest = s[static_cast<std::size_t>(i)];
-      if (newest < 0 || sl.serial > slots_[static_cast<std::size_t>(newest)].serial) newest = i;
-      if (s[static_cast<std::size_t>(i)] < kUseless) ++useful;
+      in[i] = {sl.valid, sl.serial, sl.valid ? poseDistance(sl.kf.camera, cam_) : 0.0};
     }
-    sNewest = newest >= 0 ? s[static_cast<std::size_t>(newest)] : 1e300;
-    sOther = newest >= 0 ? s[static_cast<std::size_t>(1 - newest)] : 1e300;
-    sFarthest = std::max(s[0], s[1]);
-    const bool newestSame =
-        newest >= 0 && slots_[static_cast<std::size_t>(newest)].serial == newestSerialPrev_;
-    recedingFromNewest = newestSame && sNewest > newestSPrev_;
-    lost = nearest < 0 || sNearest > kLost;
-    wanted = moving_ && (useful < 2 || (nearest == newest && sNewest > kPassedNewest &&
-                                        recedingFromNewest));
+    const session::KeyframeSurvey k =
+        session::surveyKeyframes(in, moving_, newestSerialPrev_, newestSPrev_);
+    nearest = k.nearest, newest = k.newest;
+    sNewest = k.sNewest, sOther = k.sOther, sFarthest = k.sFarthest;
+    lost = k.lost, wanted = k.wanted;
   };
   survey();
   // Early mode: the keyframe in hand goes in when the synchronous viewer
