@@ -54,6 +54,7 @@ int runMain(int argc, char** argv) {
   addScenesCommand(app, commands);
   addPathCommand(app, commands);
   addCheckQuadsCommand(app, commands);
+  addReportCommand(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&
