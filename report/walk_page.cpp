@@ -79,6 +79,12 @@ std::string whyNothingWarped(const json& s) {
   if (std::isfinite(geometry) && std::isfinite(warp) && warp >= geometry)
     return "auto: drawing was cheaper here, " + ms(geometry) + " against a warp of " + ms(warp) +
            hint;
+  const double enter = numberOrNan(member(c, "enter_below"));
+  if (std::isfinite(geometry) && std::isfinite(warp) && std::isfinite(enter) &&
+      warp >= enter * geometry)
+    return "auto: warping would save too little here, a warp of " + ms(warp) + " against " +
+           ms(geometry) + " to draw (it warps below " + num(enter, 2) + "x the drawing time)" +
+           hint;
   if (count(s, "warp_starts_deferred") > 0)
     return "auto: the keyframes of each segment that would have been warped were still being "
            "built when it began (" +
@@ -140,7 +146,8 @@ WalkSummaryText walkSummaryText(const json& s) {
                       text(s, "compose_mode", "-"));
   t.details.push_back("frames: " + std::to_string(frames) + " = " + std::to_string(warped) +
                       " warped + " + std::to_string(drawn) + " drawn as geometry + " +
-                      std::to_string(keyframeFrames) + " keyframe frames");
+                      std::to_string(keyframeFrames) +
+                      (keyframeFrames == 1 ? " keyframe frame" : " keyframe frames"));
 
   const json& schedule = member(s, "keyframe_frames");
   const int scheduled = schedule.is_array() ? static_cast<int>(schedule.size()) : -1;
@@ -157,10 +164,13 @@ WalkSummaryText walkSummaryText(const json& s) {
                                     : " built (when first needed)");
   if (text(s, "mode") == "auto" && built >= 0 && built < scheduled)
     k += "; segments drawn as geometry need none";
-  const int stalls = count(s, "keyframe_stalls");
-  if (stalls >= 0)
-    k += "; " + std::to_string(stalls) + " keyframe stalls, " +
-         ms(numberOrNan(member(s, "keyframe_stall_ms_total"))) + " waited";
+  // Frames that waited for a keyframe: those with a stall time (the count
+  // and the total of one series).
+  const int waited = count(member(s, "keyframe_stall_ms"), "count");
+  if (waited >= 0)
+    k += "; " + std::to_string(waited) + (waited == 1 ? " frame" : " frames") +
+         " waited for a keyframe (keyframe stalls), " +
+         ms(numberOrNan(member(s, "keyframe_stall_ms_total"))) + " in all";
   t.details.push_back(k);
 
   if (warped > 0) {
@@ -212,7 +222,8 @@ WalkSummaryText walkSummaryText(const json& s) {
 
 Status writePsnrAlongPath(const std::string& pngPath, const json& report) {
   const json& frames = member(report, "frames");
-  Series warped{"warped frame PSNR"}, keys{"keyframe frame"}, drawn{"frame drawn as geometry"};
+  Series warped{"warped frame PSNR"}, keys{"keyframe frame (exact)"},
+      drawn{"frame drawn as geometry (exact)"};
   warped.colour = {31, 119, 180, 255};
   keys.colour = {44, 160, 44, 255};
   drawn.colour = {140, 86, 75, 255};
@@ -346,7 +357,9 @@ std::string walkPageHtml(const json& report, const std::vector<std::string>& fil
         settings.push_back({key, list});
       }
       if (v.is_object() || v.is_array()) continue;
-      settings.push_back({key, v.is_string() ? v.get<std::string>() : v.dump()});
+      settings.push_back({key, v.is_string()         ? v.get<std::string>()
+                               : v.is_number_float() ? printf1("%.4g", v.get<double>())
+                                                     : v.dump()});
     }
   page.table({"setting", "value"}, settings);
   const json& m = member(s, "machine");
