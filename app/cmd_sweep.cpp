@@ -128,7 +128,10 @@ int run(SweepCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (!res) return fail(res.error().message);
     std::printf("sweep: %zu runs of %s; open %s/index.html (plots, table, overlays); data in "
                 "sweep.json, sweep.csv\n",
-                (*res)["rows"].size(), (*res)["pipeline"].get<std::string>().c_str(),
+                (*res)["rows"].size(),
+                so.preset == session::Preset::Paper
+                    ? "the paper's pipeline (--preset paper)"
+                    : "the default pipeline, every frame warped (--preset paper: the paper's)",
                 o.sweepOut.c_str());
     return 0;
 }

@@ -50,6 +50,7 @@ warped=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["summar
 check "task 1 warps frames ($warped)" test "$warped" -gt 0
 check "task 1 writes strips" bash -c 'ls "$1"/strip_*.png >/dev/null 2>&1' _ "$tmp/work/out/indoor"
 check "task 1 writes every frame (--save-frames)" test -s "$tmp/work/out/indoor/frames/0000.png"
+check "task 5 screenshot" test -s "$tmp/work/out/view.png"
 check "task 6 path file under out/" python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/work/out/my_path.json"
 # Nothing outside out/.
 stray=$(cd "$tmp/work" && ls -A | grep -vx out | tr '\n' ' ')

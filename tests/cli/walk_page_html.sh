@@ -32,7 +32,7 @@ probe='<script>addEventListener("load", () => { const im = [...document.images];
  const bad = im.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src);
  if (bad.length) console.error("broken images: " + bad.join(" "));
  else console.log("images loaded: " + im.length); });</script>'
-sed "s|</body>|$(tr '\n' ' ' <<<"$probe")</body>|" "$tmp/w/index.html" >"$tmp/w/probe.html"
+{ cat "$tmp/w/index.html"; echo "$probe"; } >"$tmp/w/probe.html"  # a script after </html> still runs
 browse "$tmp/w/probe.html" "$tmp/probe.log"
 n=$(sed -n 's/.*"images loaded: \([0-9]*\)".*/\1/p' "$tmp/probe.log")
 check "every image loads (${n:-none} images; $(grep -m1 -o 'broken images[^"]*' "$tmp/probe.log"))" test "${n:-0}" -ge 4
