@@ -157,6 +157,7 @@ WalkSummaryText walkSummaryText(const json& s) {
                   (text(s, "keyframe_schedule") == "fixed"
                        ? "a keyframe every " + std::to_string(count(s, "keyframe_every")) + " frames"
                    : text(s, "keyframe_schedule") == "adaptive" ? std::string("adaptive schedule")
+                   : acq == "source"                            ? std::string("the database's")
                                                                 : std::string("given")) +
                   "), " + std::to_string(built) +
                   (acq == "source"  ? " read from the database"
