@@ -126,9 +126,9 @@ int run(SweepCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
       res = bench::runSweep(in->scene, o.sweepC.scene, in->path, so);
     }
     if (!res) return fail(res.error().message);
-    std::printf("sweep: %zu runs of %s; open %s/index.html (plots, table, overlays); data in "
+    std::printf("sweep: %zu run%s of %s; open %s/index.html (plots, table, overlays); data in "
                 "sweep.json, sweep.csv\n",
-                (*res)["rows"].size(),
+                (*res)["rows"].size(), (*res)["rows"].size() == 1 ? "" : "s",
                 so.preset == session::Preset::Paper
                     ? "the paper's pipeline (--preset paper)"
                     : "the default pipeline, every frame warped (--preset paper: the paper's)",

@@ -307,9 +307,11 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
         resumed > 0 ? " (and " + std::to_string(resumed) + " kept from the interrupted run)" : "";
     const std::string dups =
         duplicates > 0 ? "; " + std::to_string(duplicates) +
-                             " uniform-tiles cells not run: their tile size ran at an earlier tau"
+                             (duplicates == 1 ? " uniform-tiles cell" : " uniform-tiles cells") +
+                             " not run: their tile size ran at an earlier tau"
                        : "";
-    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%s%s%40s\n", total - resumed - duplicates,
+    const int ran = total - resumed - duplicates;
+    std::fprintf(stderr, "\rsweep: %d run%s in %.0f s%s%s%40s\n", ran, ran == 1 ? "" : "s",
                  all.ms() / 1000.0, kept.c_str(), dups.c_str(), "");
   }
   return rows;
