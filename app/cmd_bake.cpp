@@ -115,7 +115,10 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
   if (bench::distributed(dist.d)) bench::removeChunkDir(work);
   std::uint64_t bytes = 0;
   for (const auto& e : entries) bytes += e.bytes;
-  std::printf("bake: %zu keyframes of %d frames (%s, %dx%d) in %.1f s, %.1f MB; database %s (index.json)\n",
+  // Every keyframe of the schedule; a walk from the database reads those its
+  // warped segments need ("keyframes ... read from the database").
+  std::printf("bake: %zu keyframes built and written (every keyframe in the schedule) of %d frames "
+              "(%s, %dx%d) in %.1f s, %.1f MB; database %s (index.json)\n",
               entries.size(), frames, c.scene.c_str(), in->path.width, in->path.height, sw.ms() / 1000.0,
               bytes / 1e6, out.c_str());
   return 0;

@@ -27,6 +27,7 @@
 #include "session/walk.h"
 #include "report/schedule_plots.h"
 #include "report/walk_plots.h"
+#include "report/walk_page.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
@@ -291,51 +292,13 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   if (planned)  // the planner's settings and cost go into the report's summary
     if (auto st = report::addPlannerToWalkReport(o.walkOut, *planned); !st)
       return fail(st.error().message);
-  const json& s = res->report["summary"];
-  auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
-  char threshold[64];
-  if (wo.lod.tauParallaxPx > 0)
-    std::snprintf(threshold, sizeof threshold, "tau-px %g", wo.lod.tauParallaxPx);
-  else
-    std::snprintf(threshold, sizeof threshold, "tau %g", wo.lod.tau);
-  std::printf(
-      "walk: %s (%zu triangles), %dx%d, %d frames (%d keyframes, %s schedule), %s, %s\n"
-      "  in-between PSNR median %.2f dB (p5 %.2f), SSIM median %.4f\n"
-      "  holes before fallback median %.4f%%, after %.4f%%; quads per keyframe median %.0f\n"
-      "  in-between frame %.2f ms median (p95 %.2f) vs geometry %.2f ms (p95 %.2f)\n"
-      "  every frame (%s keyframes) %.2f ms median, p95 %.2f (p95/median %.2f); "
-      "%d keyframe stalls, %.1f ms waited\n",
-      o.walkC.scene.c_str(), in->scene.triangleCount(), in->path.width, in->path.height,
-      s["frames"].get<int>(), s["keyframes"].get<int>(), o.schedule.c_str(), threshold,
-      s["criterion"].get<std::string>().c_str(), num(s["psnr"]["median"]), num(s["psnr"]["p5"]),
-      num(s["ssim"]["median"]), 100 * num(s["holes_before_fallback"]["median"]),
-      100 * num(s["holes_after_fallback"]["median"]), num(s["quads_per_keyframe"]["median"]),
-      num(s["in_between_ms"]["median"]), num(s["in_between_ms"]["p95"]),
-      num(s["reference_ms"]["median"]), num(s["reference_ms"]["p95"]),
-      s["keyframe_acquisition"].get<std::string>().c_str(), num(s["frame_ms"]["median"]),
-      num(s["frame_ms"]["p95"]), num(s["frame_ms_p95_over_median"]),
-      s["keyframe_stalls"].get<int>(), num(s["keyframe_stall_ms_total"]));
-  const json& byMode = s["frames_by_mode"];
-  const json& ratio = s["frame_over_reference"];
-  std::printf("  mode %s: %d frames drawn as geometry, %d warped, %d keyframes shown; "
-              "frame / geometry time: median %.3f, p95 %.3f\n",
-              s["mode"].get<std::string>().c_str(), byMode["geometry"].get<int>(),
-              byMode["warp"].get<int>(), byMode["keyframe"].get<int>(),
-              ratio.is_object() ? num(ratio["median"]) : std::nan(""),
-              ratio.is_object() ? num(ratio["p95"]) : std::nan(""));
-  if (frameBudgetAuto)
-    std::printf("  frame budget auto: p%.0f of the last %d in-between frames' work, median %.1f ms\n",
-                o.fb.quantile * 100, o.fb.window, num(s["frame_budget_ms"]));
-  if (frameBudgetMs > 0 || frameBudgetAuto)
-    std::printf(
-        "  frame budget %.1f ms: %d frames refreshed (%.0f px median, %.2f ms median), stale "
-        "pixels median %.0f; presented interval %.2f ms median, p95/median %.2f (work %.2f); "
-        "%d frames over budget\n",
-        num(s["frame_budget_ms"]), s["frames_refreshed"].get<int>(), num(s["refreshed_pixels"]["median"]),
-        num(s["refresh_ms"]["median"]), num(s["stale_pixels"]["median"]),
-        num(s["frame_interval_ms"]["median"]), num(s["frame_interval_ms_p95_over_median"]),
-        num(s["frame_ms_p95_over_median"]), s["budget_overruns"].get<int>());
-  std::printf("report: %s/report.json\n", o.walkOut.c_str());
+  json written = res->report["summary"];  // with the planner's fields once written
+  if (!wo.outDir.empty())  // index.html and psnr_along_path.png, from report.json
+    if (auto st = report::writeWalkPage(wo.outDir, &written); !st) return fail(st.error().message);
+  const report::WalkSummaryText summary = report::walkSummaryText(written);
+  std::printf("%s\n", summary.headline.c_str());
+  for (const std::string& line : summary.details) std::printf("  %s\n", line.c_str());
+  std::printf("report: %s/report.json, page %s/index.html\n", o.walkOut.c_str(), o.walkOut.c_str());
   return 0;
 }
 

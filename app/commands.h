@@ -30,5 +30,6 @@ void addScenesCommand(CLI::App& app, Commands& commands);
 void addPathCommand(CLI::App& app, Commands& commands);
 void addCheckQuadsCommand(CLI::App& app, Commands& commands);
 void addPublishCommand(CLI::App& app, Commands& commands);
+void addReportCommand(CLI::App& app, Commands& commands);
 
 }  // namespace hw::app

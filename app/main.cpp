@@ -55,6 +55,7 @@ int runMain(int argc, char** argv) {
   addPathCommand(app, commands);
   addCheckQuadsCommand(app, commands);
   addPublishCommand(app, commands);
+  addReportCommand(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&

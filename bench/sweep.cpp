@@ -120,12 +120,54 @@ Result<Plan> makePlan(const scenes::CameraPath& path, const SweepOptions& opt) {
   return p;
 }
 
+// The walk every run starts from (SweepOptions::preset).
+WalkOptions sweepBase(const SweepOptions& opt) {
+  WalkOptions w = session::presetOptions(opt.preset);
+  w.mode = session::FrameMode::Hybrid;
+  w.lod.tauParallaxPx = 0;
+  w.asyncKeyframes = false;
+  return w;
+}
+
+// The five-point stencil LOD options of the base pipeline at τ (the row the
+// uniform tiles are matched to, and the overlays).
+keyframe::LodOptions fivePointLod(const SweepOptions& opt, double tau) {
+  keyframe::LodOptions lo = sweepBase(opt).lod;
+  lo.tau = tau;
+  lo.criterion = keyframe::DeltaCriterion::FivePoint;
+  lo.planarity = keyframe::Planarity::Stencil;
+  lo.mergeStrips = false;
+  lo.tauGradient = 0;
+  return lo;
+}
+
+// An overlay with a caption band above it.
+Image<Rgba8> captioned(const Image<Rgba8>& im, const std::string& text) {
+  const int band = captionHeight() + 8;
+  Image<Rgba8> out(im.width(), im.height() + band);
+  out.fill({255, 255, 255, 255});
+  for (int y = 0; y < im.height(); ++y)
+    for (int x = 0; x < im.width(); ++x) out(x, y + band) = im(x, y);
+  drawCaption(out, text, 4, 4, {20, 20, 20, 255});
+  return out;
+}
+
 bool isFivePointStencil(const Run& r) {
   return r.mesh == keyframe::MeshMethod::Lod && r.criterion == keyframe::DeltaCriterion::FivePoint &&
          r.planarity == keyframe::Planarity::Stencil && !r.mergeStrips && r.tauGradient == 0;
 }
 
 }  // namespace
+
+std::string sweepPipeline(const SweepOptions& opt) {
+  if (opt.preset == session::Preset::Paper)
+    return "the paper's pipeline (--preset paper: Zheng et al. 1999, every frame warped, holes "
+           "from the previous frame); without --preset paper the sweep runs the default pipeline";
+  return "the default pipeline (--preset default: misfit leaves split, larger holes drawn by the "
+         "geometry renderer) with every frame warped (--mode hybrid), tau in z' units and "
+         "keyframes built when needed; each run sets tau, the criterion, planarity and merging. "
+         "--preset paper sweeps the paper's pipeline";
+}
 
 Result<int> sweepCellCount(const scenes::CameraPath& path, const SweepOptions& opt) {
   auto p = makePlan(path, opt);
@@ -151,13 +193,13 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
   auto progress = [&](int done, int total, const std::string& what) {
     if (!opt.progress) return;
     const double el = all.ms() / 1000.0;
-    std::fprintf(stderr, "\rsweep: run %d/%d (%s) elapsed %.0f s, ETA %.0f s        ", done + 1, total,
+    std::fprintf(stderr, "\rsweep: cell %d/%d (%s) elapsed %.0f s, ETA %.0f s        ", done + 1, total,
                  what.c_str(), el, done > 0 ? el / done * (total - done) : 0.0);
     std::fflush(stderr);
   };
 
   auto runOne = [&](const Run& r) -> Result<json> {
-    WalkOptions w;
+    WalkOptions w = sweepBase(opt);
     w.lod.tau = r.tau;
     w.lod.criterion = r.criterion;
     w.lod.planarity = r.planarity;
@@ -199,8 +241,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
   auto quadsAt = [&](double tau) -> Result<double> {
     if (auto it = fivePointQuads.find(tau); it != fivePointQuads.end()) return it->second;
     keyframe::LodBuilder builder;
-    keyframe::LodOptions lo;
-    lo.tau = tau;
+    const keyframe::LodOptions lo = fivePointLod(opt, tau);
     keyframe::Keyframe kf;
     keyframe::QuadMesh mesh;
     std::vector<double> quads;
@@ -215,7 +256,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
   json rows = json::array();
   std::set<int> tileSizesDone;
   const int total = last - first;
-  int resumed = 0;
+  int resumed = 0, duplicates = 0;  // rows kept; tiles cells not run (tile size already run)
   for (int c = first; c < last; ++c) {
     Run r = plan.cells[static_cast<std::size_t>(c)];
     if (log)
@@ -229,7 +270,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
         if (isFivePointStencil(r))
           fivePointQuads[r.tau] = numberOrNan(row["quads_per_keyframe"]["median"]);
         rows.push_back(row);
-        ++resumed;
+        ++(row.contains("duplicate_tile_size") ? duplicates : resumed);
         continue;
       }
     if (r.mesh == keyframe::MeshMethod::UniformTiles) {
@@ -244,6 +285,7 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
         // Same tile size as an earlier τ: one row per tile size (the merge drops repeats too).
         rows.push_back({{"cell", c}, {"duplicate_tile_size", r.tileSize}});
         if (log) HW_TRY(log->append(rows.back()));
+        ++duplicates;
         continue;
       }
       progress(c - first, total, "uniform tiles " + std::to_string(r.tileSize) + " px");
@@ -260,11 +302,18 @@ Result<json> runSweepCells(const scenes::Scene& scene, const std::string& sceneL
     rows.push_back(*row);
     if (log) HW_TRY(log->append(rows.back()));
   }
-  if (opt.progress)
-    std::fprintf(stderr, "\rsweep: %d runs in %.0f s%s%40s\n", total - resumed, all.ms() / 1000.0,
-                 resumed > 0 ? (", " + std::to_string(resumed) + " kept from the interrupted run").c_str()
-                             : "",
-                 "");
+  if (opt.progress) {
+    const std::string kept =
+        resumed > 0 ? " (and " + std::to_string(resumed) + " kept from the interrupted run)" : "";
+    const std::string dups =
+        duplicates > 0 ? "; " + std::to_string(duplicates) +
+                             (duplicates == 1 ? " uniform-tiles cell" : " uniform-tiles cells") +
+                             " not run: their tile size ran at an earlier tau"
+                       : "";
+    const int ran = total - resumed - duplicates;
+    std::fprintf(stderr, "\rsweep: %d run%s in %.0f s%s%s%40s\n", ran, ran == 1 ? "" : "s",
+                 all.ms() / 1000.0, kept.c_str(), dups.c_str(), "");
+  }
   return rows;
 }
 
@@ -282,7 +331,8 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
   for (const Run& r : plan->cells)
     cells.push_back({r.method(), r.tau});
   const json header = {{"sweep_row_log", 1}, {"scene", sceneLabel}, {"frames", plan->frames},
-                       {"depth", depthModeName(opt.depthMode)}, {"cells", cells}};
+                       {"depth", depthModeName(opt.depthMode)},
+                       {"preset", session::presetName(opt.preset)}, {"cells", cells}};
   const std::string logPath = opt.outDir + "/" + kSweepRowLog;
   SweepCellLog log;
   if (opt.resume) {
@@ -300,7 +350,7 @@ Result<json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
       if (first) {
         if (j != header)
           return makeError("--resume: " + logPath + " was written by a different sweep (scene, "
-                           "frames, depth mode or cells differ); run without --resume to start afresh");
+                           "frames, depth mode, preset or cells differ); run without --resume to start afresh");
         first = false;
       } else if (!j.is_discarded() && j.contains("cell") && j["cell"].is_number_integer()) {
         log.done[j["cell"].get<int>()] = j;
@@ -369,11 +419,12 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   keyframe::LodBuilder builder;
   for (double tau : taus) {
     keyframe::QuadMesh mesh;
-    keyframe::LodOptions lo;
-    lo.tau = tau;
-    HW_TRY(builder.build(overlayKf, lo, &mesh));
+    HW_TRY(builder.build(overlayKf, fivePointLod(opt, tau), &mesh));
     const std::string name = "overlays/overlay_tau_" + fmt(tau, 0) + ".png";
-    HW_TRY(writePng(opt.outDir + "/" + name, keyframe::drawQuadOverlay(overlayKf.colour, mesh)));
+    HW_TRY(writePng(opt.outDir + "/" + name,
+                    captioned(keyframe::drawQuadOverlay(overlayKf.colour, mesh),
+                              "tau " + tauLabel(tau) + ": " + std::to_string(mesh.stats.quads) +
+                                  " quads, frame " + std::to_string(overlayFrame))));
     overlays.push_back({{"tau", tau}, {"file", name}, {"quads", mesh.stats.quads},
                         {"one_pixel_leaves", mesh.stats.onePixelLeaves}});
   }
@@ -415,11 +466,44 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   };
   PlotOptions po;
   po.title = "Run time against error: " + sceneLabel + " (" + std::to_string(path.width) + "x" +
-             std::to_string(path.height) + ")";
-  po.xLabel = "in-between frame ms (median)";
+             std::to_string(path.height) + ", " + session::presetName(opt.preset) + " pipeline)";
+  po.xLabel = "in-between frame ms (median, log)";
   po.yLabel = "PSNR dB (median)";
   po.logX = true;
-  HW_TRY(writePlot(opt.outDir + "/pareto.png", seriesBy("in_between_ms", "median", "psnr", "median", false, true), po));
+  po.width = 1000;
+  po.height = 600;
+  std::vector<Series> pareto = seriesBy("in_between_ms", "median", "psnr", "median", false, true);
+  // Outliers (a run more than 3x slower than every faster one, e.g. one quad
+  // per pixel) would squeeze the others into a corner: the axis breaks
+  // before them and they sit at its right end, labelled with their time.
+  std::vector<double> xs;
+  for (const Series& s : pareto)
+    for (double x : s.x)
+      if (std::isfinite(x) && x > 0) xs.push_back(x);
+  std::sort(xs.begin(), xs.end());
+  std::size_t core = xs.size();
+  while (core >= 3 && xs[core - 1] > 3 * xs[core - 2]) --core;
+  if (core < xs.size()) {
+    const double cut = xs[core - 1], edge = cut * 1.5;
+    po.xMax = edge * 1.15;
+    po.xLabel = "in-between frame ms (median, log); runs slower than " + fmt(cut * 1.25, 0) +
+                " ms at the right end";
+    for (Series& s : pareto) {
+      bool off = false;
+      for (std::size_t k = 0; k < s.x.size(); ++k)
+        if (s.x[k] > cut) {
+          if (s.pointLabels.size() != s.x.size()) s.pointLabels.assign(s.x.size(), "");
+          s.pointLabels[k] = fmt(s.x[k], 0) + " ms";
+          s.x[k] = edge;
+          off = true;
+        }
+      if (off) s.label += " (off scale, right end)";
+    }
+  }
+  HW_TRY(writePlot(opt.outDir + "/pareto.png", pareto, po));
+  po.xMax.reset();
+  po.width = 800;
+  po.height = 500;
   po.title = "Quads per keyframe vs tau";
   po.xLabel = "tau (z' units)";
   po.yLabel = "quads per keyframe (median)";
@@ -435,6 +519,8 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
               {"frames", frames},
               {"keyframe_every", path.keyframeEvery},
               {"depth_mode", depthModeName(opt.depthMode)},
+              {"preset", session::presetName(opt.preset)},
+              {"pipeline", sweepPipeline(opt)},
               {"overlay_frame", overlayFrame},
               {"rows", rows},
               {"overlays", overlays},
@@ -476,15 +562,16 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
                  " triangles), " + std::to_string(path.width) + "x" + std::to_string(path.height) +
                  ", " + std::to_string(frames) + " frames, a keyframe every " +
                  std::to_string(path.keyframeEvery) + ", depth " + depthModeName(opt.depthMode) +
+                 ". Every run is " + sweepPipeline(opt) +
                  ". Every row is the same walk; quality is PSNR/SSIM of the in-between frames "
                  "against the geometry renderer at the same camera. Machine: " +
                  doc["machine"]["cpu"].get<std::string>() + ", " + opt.glRenderer +
                  ". Times are wall-clock on a shared VM: they move by tens of percent between "
                  "runs.");
   page.heading("Run time against error");
-  page.images({"pareto.png"}, {"median PSNR vs median in-between ms, one curve per method; each point labelled with its tau (uniform tiles: the tau whose quad count they match)"});
+  page.images({"pareto.png"}, {"median PSNR vs median in-between ms, one curve per method; each point labelled with its tau (uniform tiles: the tau whose quad count they match) where the label has room; a run far slower than the rest sits at the right end of a broken axis, labelled with its time"});
   page.images({"quads_vs_tau.png", "psnr_vs_tau.png"});
-  page.heading("Table");
+  page.heading("Table: " + std::to_string(rows.size()) + " runs");
   page.table({"mesh", "criterion", "variant", "tau", "tile px", "quads/keyframe", "LOD build ms",
               "in-between ms", "p95 ms", "PSNR dB", "PSNR p5", "SSIM", "SSIM p5", "holes %"},
              table);

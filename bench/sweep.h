@@ -15,10 +15,17 @@
 #include "core/result.h"
 #include "scenes/camera_path.h"
 #include "scenes/scene.h"
+#include "session/presets.h"
 
 namespace hw::bench {
 
 struct SweepOptions {
+  // The pipeline every run starts from: the preset's settings (Default: the
+  // program's defaults), with every frame warped (mode hybrid) so each run
+  // measures the warp, τ in z' units (no parallax threshold) and keyframes
+  // built when needed (no worker sharing the CPUs with the measured frames);
+  // each run then sets τ, the criterion, planarity and merging (the cells).
+  session::Preset preset = session::Preset::Default;
   std::vector<double> taus;   // z' units; empty = 2^6, 2^7, …, 2^16
   bool bothCriteria = true;   // five-point and per-axis max (else five-point only)
   bool baselines = true;      // uniform tiles (matched to each five-point τ) and per-pixel
@@ -38,6 +45,9 @@ struct SweepOptions {
   bool resume = false;
   std::string glRenderer, glVersion;
 };
+
+// What the runs start from, in words (the log, sweep.json's "pipeline", the page).
+std::string sweepPipeline(const SweepOptions& options);
 
 // The row log of an in-process sweep, outDir/.sweep-rows.jsonl: a header
 // line naming the sweep's cells, then one line per finished cell's row, each

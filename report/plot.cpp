@@ -792,8 +792,10 @@ std::vector<unsigned char> drawData(Image<Rgba8>& im, const Layout& l,
       }
     }
   }
-  // Point labels: above right of the marker, else left, else below; inside
-  // the plot area or not at all. They count as data for the legend.
+  // Point labels: above right of the marker, else above left, below right,
+  // below left; inside the plot area and clear of every label placed before
+  // (1 px apart), or not at all. They count as data for the legend.
+  std::vector<PlotRect> placed;
   for (std::size_t i = 0; i < series.size(); ++i) {
     const Series& s = series[i];
     if (s.pointLabels.size() != s.x.size()) continue;
@@ -804,10 +806,19 @@ std::vector<unsigned char> drawData(Image<Rgba8>& im, const Layout& l,
       if (!(tx >= 0 && tx <= 1 && ty >= 0 && ty <= 1)) continue;
       const int px = static_cast<int>(pixelX(r, tx)), py = static_cast<int>(pixelY(r, ty));
       const int tw = textWidth(text, 1), th = capHeight(1), gap = 6;
-      int x = px + gap, y = py - gap - th;
-      if (x + tw > r.x1) x = px - gap - tw;
-      if (y < r.y0) y = py + gap;
-      if (x < r.x0 || x + tw > r.x1 || y < r.y0 || y + th > r.y1) continue;
+      const int xs[2] = {px + gap, px - gap - tw}, ys[2] = {py - gap - th, py + gap};
+      bool found = false;
+      int x = 0, y = 0;
+      for (int c = 0; c < 4 && !found; ++c) {
+        x = xs[c % 2];
+        y = ys[c / 2];
+        if (x < r.x0 || x + tw > r.x1 || y < r.y0 || y + th > r.y1) continue;
+        found = true;
+        for (const PlotRect& p : placed)
+          if (x < p.x1 + 1 && p.x0 < x + tw + 1 && y < p.y1 + 1 && p.y0 < y + th + 1) found = false;
+      }
+      if (!found) continue;
+      placed.push_back({x, y, x + tw, y + th});
       drawText(im, text, x, y, st[i].colour, 1);
       for (int yy = y; yy < y + th; ++yy)
         for (int xx = x; xx < x + tw; ++xx)

@@ -22,7 +22,8 @@ struct Series {
   Marker marker = Marker::kAuto;  // kAuto cycles circle, square, diamond by series index
   // Text beside each point (e.g. its τ), small, in the series colour; empty =
   // none, else one per point ("" = no text). Labels that do not fit inside
-  // the plot area are left out.
+  // the plot area, or would overlap a label placed before them (earlier
+  // series, earlier points), are left out.
   std::vector<std::string> pointLabels{};
 };
 

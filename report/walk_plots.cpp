@@ -15,7 +15,7 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   const session::FrameTimes& t = result.frameTimes;
   Series work{"warped frame: work (ms.frame)"}, geometry{"frame drawn as geometry: work"},
       built{"frame that built/uploaded a keyframe"},
-      key{"keyframe shown"}, reference{"geometry frame, same camera (reference_ms)"},
+      key{"keyframe frame"}, reference{"geometry frame, same camera (reference_ms)"},
       interval{"presented interval (ms.interval)"}, budget{"budget"},
       floor{"fill floor: two layers of one full-screen quad (floor_ms)"};
   const Rgba8 kBlue{31, 119, 180, 255}, kRed{214, 39, 40, 255}, kGreen{44, 160, 44, 255},

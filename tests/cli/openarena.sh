@@ -9,7 +9,7 @@ check "all 50 maps listed" test "$(grep -c '^q3 ' "$tmp/list")" -eq 50
 "$hw" walk --mode hybrid --scene q3:oa_dm5 --frames 21 --strips 1 --out "$tmp/w" --quiet >"$tmp/out" 2>"$tmp/err"
 rc=$?; check "walk exits 0 ($(tail -2 "$tmp/err"))" test $rc -eq 0
 check "107k triangles (107414 + 14 of sky)" grep -q "oa_dm5: 107428 triangles" "$tmp/err"
-psnr=$(sed -n 's/.*in-between PSNR median \([0-9.]*\) dB.*/\1/p' "$tmp/out")
+psnr=$(sed -n 's/^  warped frames: PSNR median \([0-9.]*\) dB.*/\1/p' "$tmp/out")
 check "median in-between PSNR >= 28 dB (got $psnr)" awk -v p="$psnr" 'BEGIN { exit !(p >= 28) }'
 check "strip written" test -n "$(ls "$tmp/w"/strip_*.png 2>/dev/null)"
 "$hw" walk --scene q3:no_such_map --out "$tmp/x" --quiet >/dev/null 2>"$tmp/err2"

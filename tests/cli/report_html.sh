@@ -13,17 +13,17 @@ shot="$artifacts/sweep_index.png"
 rm -f "$shot"
 timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
   --disable-background-networking --disable-component-update --disable-sync \
-  --user-data-dir="$tmp/profile" --hide-scrollbars --window-size=1400,2200 \
+  --user-data-dir="$tmp/profile" --hide-scrollbars --window-size=1400,3200 \
   --screenshot="$shot" "file://$tmp/s/index.html" >"$tmp/chromium.log" 2>&1
 check "chromium took a screenshot ($(tail -1 "$tmp/chromium.log"))" test -s "$shot"
 # The page draws its images: compare with the same page whose PNGs were
 # removed (broken images draw nothing); the real one must be clearly richer
-# (measured: 154 kB with the plots and overlays, 115 kB without).
+# (the window tall enough for the overlays below the wider Pareto plot).
 cp -r "$tmp/s" "$tmp/noimg"
 find "$tmp/noimg" -name '*.png' -delete
 timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
   --disable-background-networking --disable-component-update --disable-sync \
-  --user-data-dir="$tmp/profile2" --hide-scrollbars --window-size=1400,2200 \
+  --user-data-dir="$tmp/profile2" --hide-scrollbars --window-size=1400,3200 \
   --screenshot="$tmp/noimg.png" "file://$tmp/noimg/index.html" >/dev/null 2>&1
 size=$(stat -c %s "$shot" 2>/dev/null || echo 0)
 size0=$(stat -c %s "$tmp/noimg.png" 2>/dev/null || echo 0)

@@ -18,7 +18,9 @@ check "12 frames saved" test "$(ls "$tmp/w/frames" | wc -l)" -eq 12
 check "12 hole masks saved" test "$(ls "$tmp/w/holes" | wc -l)" -eq 12
 check "2 strips" test "$(ls "$tmp/w"/strip_*.png | wc -l)" -eq 2
 check "no temporary files left" test -z "$(find "$tmp/w" -name '*.tmp-*')"
-check "stdout summary" grep -q "in-between PSNR" "$tmp/stdout"
+check "stdout summary line" grep -qE '^indoor:20k, 12 frames: [0-9]+ % warped, in-between [0-9.]+ dB \(p5 [0-9.]+\), frame [0-9.]+x the geometry frame \(median\), [0-9.]+x \(p95\)$' "$tmp/stdout"
+check "stdout details: frames add up" grep -qE '^  frames: 12 = [0-9]+ warped \+ 0 drawn as geometry \+ [0-9]+ keyframe frames?$' "$tmp/stdout"
+check "stdout details: PSNR median" grep -qE '^  warped frames: PSNR median [0-9.]+ dB' "$tmp/stdout"
 # render and lod commands
 "$hw" render --scene outdoor:20k --frames 3 --out "$tmp/r" >"$tmp/rout" 2>&1
 rc=$?; check "render exits 0" test $rc -eq 0

@@ -285,5 +285,28 @@ TEST(Plot, DegenerateRanges) {
   EXPECT_GT(countInRect(im, plotArea(all, o), plotPalette()[0]), 20);
 }
 
+// Point labels never overlap: coincident points get one label in each of the
+// four places beside the marker, and the rest none.
+TEST(Plot, PointLabelsDoNotOverlap) {
+  const Rgba8 ink{200, 30, 120, 255};
+  auto labelled = [&](int n) {
+    Series s = line("", std::vector<double>(n, 5.0), std::vector<double>(n, 5.0));
+    s.lines = s.markers = false;
+    s.colour = ink;
+    s.pointLabels.assign(static_cast<std::size_t>(n), "2^11");
+    // Spread points fixing the axes, unlabelled.
+    Series frame = line("", {0, 10}, {0, 10});
+    frame.lines = frame.markers = false;
+    const PlotOptions o{.width = 600, .height = 400};
+    const Image<Rgba8> im = renderPlot({frame, s}, o);
+    return countInRect(im, plotArea({frame, s}, o), ink);
+  };
+  const long one = labelled(1);
+  ASSERT_GT(one, 10);
+  EXPECT_EQ(labelled(2), 2 * one);
+  EXPECT_EQ(labelled(4), 4 * one);
+  EXPECT_EQ(labelled(7), 4 * one);  // no fifth place: left out
+}
+
 }  // namespace
 }  // namespace hw::report
