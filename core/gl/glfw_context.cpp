@@ -21,7 +21,7 @@ void* glfwProc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAdd
 
 class GlfwContext final : public WindowContext {
  public:
-  explicit GlfwContext(GLFWwindow* w) : window_(w) {}
+  explicit GlfwContext(GLFWwindow* w) : window_(w) { backend_ = "glfw"; }
   ~GlfwContext() override {
     glfwDestroyWindow(window_);
     glfwTerminate();
@@ -32,6 +32,7 @@ class GlfwContext final : public WindowContext {
   bool shouldClose() override { return glfwWindowShouldClose(window_); }
   void pollEvents() override { glfwPollEvents(); }
   void setStrings() {
+    vendor_ = reinterpret_cast<const char*>(glGetString(GL_VENDOR));
     renderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     version_ = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   }
@@ -44,7 +45,7 @@ class GlfwContext final : public WindowContext {
 // GLFW stays initialised for the main window (no glfwTerminate here).
 class HiddenWindowContext final : public WindowContext {
  public:
-  explicit HiddenWindowContext(GLFWwindow* w) : window_(w) {}
+  explicit HiddenWindowContext(GLFWwindow* w) : window_(w) { backend_ = "glfw"; }
   ~HiddenWindowContext() override { glfwDestroyWindow(window_); }
   void makeCurrent() override { glfwMakeContextCurrent(window_); }
   GLFWwindow* window() override { return window_; }
