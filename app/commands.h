@@ -29,5 +29,6 @@ void addScheduleOracleCommand(CLI::App& app, Commands& commands);
 void addScenesCommand(CLI::App& app, Commands& commands);
 void addPathCommand(CLI::App& app, Commands& commands);
 void addCheckQuadsCommand(CLI::App& app, Commands& commands);
+void addInfoCommand(CLI::App& app, Commands& commands);
 
 }  // namespace hw::app
