@@ -17,7 +17,7 @@ for i in $(seq 1 "$rounds"); do
   done
 done
 python3 - "$out" "$rounds" <<'PY'
-import json, statistics, sys
+import csv, json, statistics, sys
 out, rounds = sys.argv[1], int(sys.argv[2])
 keys = ["frame_ms", "in_between_ms", "reference_ms"]
 rows = []
@@ -26,10 +26,10 @@ for i in range(1, rounds + 1):
         s = json.load(open(f"{out}/{b}-{i}/report.json"))["summary"]
         m = s["machine"]
         rows.append([i, b, m["gl_backend"], m["gl_renderer"]] + [s[k]["median"] for k in keys])
-with open(f"{out}/results.csv", "w") as f:
-    f.write("round,gl,gl_backend,gl_renderer," + ",".join(k + "_median" for k in keys) + "\n")
-    for r in rows:
-        f.write(",".join(str(x) for x in r) + "\n")
+with open(f"{out}/results.csv", "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["round", "gl", "gl_backend", "gl_renderer"] + [k + "_median" for k in keys])
+    w.writerows(rows)
 print("round  " + "  ".join(f"{k}: egl / osmesa = ratio" for k in keys))
 ratios = {k: [] for k in keys}
 for i in range(1, rounds + 1):
@@ -45,5 +45,6 @@ for k in keys:
     egl = statistics.median(r[4 + keys.index(k)] for r in rows if r[1] == "egl")
     osm = statistics.median(r[4 + keys.index(k)] for r in rows if r[1] == "osmesa")
     print(f"{k}: median over rounds egl {egl:.2f} ms, osmesa {osm:.2f} ms; per-round ratio median "
-          f"{statistics.median(ratios[k]):.3f}, range {min(ratios[k]):.3f}..{max(ratios[k]):.3f}")
+          f"{statistics.median(ratios[k]):.3f}, range {min(ratios[k]):.3f}..{max(ratios[k]):.3f}, "
+          f"egl faster in {sum(1 for x in ratios[k] if x < 1)} of {rounds}")
 PY
