@@ -52,7 +52,9 @@ class HiddenWindowContext final : public WindowContext {
   void swapBuffers() override { glfwSwapBuffers(window_); }
   bool shouldClose() override { return glfwWindowShouldClose(window_); }
   void pollEvents() override {}  // events are the main window's business
-  void setStrings(const std::string& renderer, const std::string& version) {
+  void setStrings(const std::string& vendor, const std::string& renderer,
+                  const std::string& version) {
+    vendor_ = vendor;
     renderer_ = renderer;
     version_ = version;
   }
@@ -67,6 +69,8 @@ class HiddenWindowContext final : public WindowContext {
 class AttachedContext final : public Context {
  public:
   explicit AttachedContext(WindowContext& w) : window_(w) {
+    backend_ = w.backend();
+    vendor_ = w.vendor();
     renderer_ = w.renderer();
     version_ = w.version();
   }
@@ -106,7 +110,7 @@ Result<std::unique_ptr<WindowContext>> createSecondWindowContext(WindowContext& 
   auto ctx = std::make_unique<HiddenWindowContext>(w);
   // Its strings, read through the table (checked per entry on the worker).
   ctx->makeCurrent();
-  ctx->setStrings(glString(GL_RENDERER), glString(GL_VERSION));
+  ctx->setStrings(glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   main.makeCurrent();
   return std::unique_ptr<WindowContext>(std::move(ctx));
 }
