@@ -312,8 +312,8 @@ void addGlOptions(CLI::App* c) {
          o.eglDevice = n;
          gl::setHeadlessOptions(o);
        },
-       "EGL device to render on (0-based, as `hybridwalk info` lists them; default: Mesa's "
-       "surfaceless platform, else device 0)")
+       "EGL device to render on (0-based, as `hybridwalk info` lists them; default: the first "
+       "GPU device, else Mesa's surfaceless platform (llvmpipe), else device 0)")
       ->check(CLI::Range(0, 999));
 }
 

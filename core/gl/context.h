@@ -50,8 +50,9 @@ bool backendBuilt(Backend b);
 struct HeadlessOptions {
   Backend backend = Backend::Auto;
   // Index into the EGL devices (eglQueryDevicesEXT, EGL_EXT_platform_device);
-  // −1: Mesa's surfaceless platform when the EGL library has it (it picks
-  // the first GPU render node, else llvmpipe), else device 0. Only EGL.
+  // −1: the first hardware device (not EGL_MESA_device_software); without
+  // one, Mesa's surfaceless platform (llvmpipe) when the EGL library has it,
+  // else device 0. Only EGL.
   int eglDevice = -1;
 };
 // The process-wide choice createHeadlessContext() uses: starts as

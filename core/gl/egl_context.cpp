@@ -106,6 +106,7 @@ struct Display {
 Result<Display> openDisplay(int device) {
   static std::map<int, Display> cache;
   if (auto it = cache.find(device); it != cache.end()) return it->second;
+  const int asked = device;
   const char* ext = clientExtensions();
   if (!ext)
     return makeError("cannot use EGL: the EGL library has no client extensions (need EGL 1.5 "
@@ -114,6 +115,21 @@ Result<Display> openDisplay(int device) {
   auto getPlatformDisplay =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglProc("eglGetPlatformDisplayEXT"));
   Display d;
+  // The default: the first hardware device (not Mesa's software one), so a
+  // GPU that only its vendor's library drives (NVIDIA) wins over Mesa's
+  // surfaceless platform, which would give llvmpipe there; without one, the
+  // surfaceless platform; else device 0.
+  if (device < 0 && hasExtension(ext, "EGL_EXT_platform_device")) {
+    if (auto list = devices()) {
+      auto str =
+          reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglProc("eglQueryDeviceStringEXT"));
+      for (size_t i = 0; str && i < list->size(); ++i)
+        if (!hasExtension(str((*list)[i], EGL_EXTENSIONS), "EGL_MESA_device_software")) {
+          device = static_cast<int>(i);
+          break;
+        }
+    }
+  }
   if (device >= 0 || !hasExtension(ext, "EGL_MESA_platform_surfaceless")) {
     auto list = devices();
     if (!list) {
@@ -150,7 +166,7 @@ Result<Display> openDisplay(int device) {
   if (!eglInitialize(d.display, &major, &minor))
     return makeError("cannot initialise the " + d.name + ": " + eglErrorName(eglGetError()) +
                      " (is the driver installed and /dev/dri readable? docs/gpu.md)");
-  cache[device] = d;
+  cache[asked] = d;
   return d;
 }
 
