@@ -197,7 +197,14 @@ Result<Renderer> Renderer::create(const Scene& scene, const RendererDesc& desc) 
     return hw::makeError("renderer: path.keyframeEvery: expected at least 1, got " +
                          std::to_string(desc.path.keyframeEvery));
   if (desc.context == ContextKind::Own) {
-    auto ctx = hw::gl::createHeadlessContext();
+    hw::gl::HeadlessOptions ho = hw::gl::headlessOptions();  // HYBRIDWALK_GL
+    if (desc.headlessGl == HeadlessGl::Auto) ho.backend = hw::gl::Backend::Auto;
+    if (desc.headlessGl == HeadlessGl::Egl) ho.backend = hw::gl::Backend::Egl;
+    if (desc.headlessGl == HeadlessGl::OsMesa) ho.backend = hw::gl::Backend::OsMesa;
+    if (desc.eglDevice >= 0) ho.eglDevice = desc.eglDevice;
+    auto ctx = desc.headlessGl == HeadlessGl::Env && desc.eglDevice < 0
+                   ? hw::gl::createHeadlessContext()  // reports a bad HYBRIDWALK_GL
+                   : hw::gl::createHeadlessContext(ho);
     if (!ctx) return ctx.error();
     impl->ownContext = std::move(*ctx);
     impl->glRenderer = impl->ownContext->renderer();

@@ -294,7 +294,31 @@ void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& wh
       ->capture_default_str();
 }
 
+void addGlOptions(CLI::App* c) {
+  c->add_option_function<std::string>(
+       "--gl",
+       [](const std::string& v) {
+         gl::HeadlessOptions o = gl::headlessOptions();
+         gl::parseBackend(v, &o.backend);  // the check below admits only valid names
+         gl::setHeadlessOptions(o);
+       },
+       "Headless OpenGL: auto (EGL when it gives a 4.5 core context, else OSMesa), egl or "
+       "osmesa; default HYBRIDWALK_GL from the environment, else auto (docs/gpu.md)")
+      ->check(CLI::IsMember({"auto", "egl", "osmesa"}));
+  c->add_option_function<int>(
+       "--gl-device",
+       [](int n) {
+         gl::HeadlessOptions o = gl::headlessOptions();
+         o.eglDevice = n;
+         gl::setHeadlessOptions(o);
+       },
+       "EGL device to render on (0-based, as `hybridwalk info` lists them; default: the first "
+       "GPU device, else Mesa's surfaceless platform (llvmpipe), else device 0)")
+      ->check(CLI::Range(0, 999));
+}
+
 void addCommon(CLI::App* c, Common& o) {
+  addGlOptions(c);
   c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
   c->add_option("--speed", o.pathOptions.metresPerFrame,
                 "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "

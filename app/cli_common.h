@@ -129,8 +129,14 @@ void addPlannerOptions(CLI::App* c, session::PlannerOptions& p, std::string& pre
 // A whole number of frames in [lo, hi].
 CLI::Validator wholeFrames(long lo, long hi, const std::string& name);
 void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what);
-// --scene, --path, --depth, --frames (and the size overrides) of every command on a path.
+// --scene, --path, --depth, --frames (and the size overrides) of every command
+// on a path, and addGlOptions.
 void addCommon(CLI::App* c, Common& o);
+// --gl auto|egl|osmesa and --gl-device N: the headless OpenGL backend of a
+// command that renders (they set gl::setHeadlessOptions when given; default
+// HYBRIDWALK_GL, else auto; docs/gpu.md). A --gl value outside the set is a
+// usage error (exit 2); a device out of range fails at context creation.
+void addGlOptions(CLI::App* c);
 // The scene, its camera path (--path or the scene's default) and a headless
 // GL context; the cheap inputs are validated first.
 Result<Loaded> loadInputs(const Common& o);

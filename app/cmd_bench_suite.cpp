@@ -120,6 +120,7 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
   benchCmd->add_flag("--quick", o.benchQuick,
                      "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings, skips on indoor only (11 frames)");
   benchCmd->add_flag("--quiet", o.benchQuiet, "No progress lines");
+  addGlOptions(benchCmd);
   benchCmd->add_option("--only", o.benchOnly,
                        "Run only these parts (comma-separated): complexity, trace, spacing, skips "
                        "(skips = the table: each skip on and off, and --subdivide none, "

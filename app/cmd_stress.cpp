@@ -86,6 +86,7 @@ void addStressCommand(CLI::App& app, Commands& commands) {
   stressCmd->add_option("--out", o.stressOut, "Output directory")->capture_default_str();
   stressCmd->add_flag("--quick", o.stressQuick, "Smaller images and fewer cases");
   stressCmd->add_flag("--quiet", o.stressQuiet, "No progress line");
+  addGlOptions(stressCmd);
 
   commands.push_back({stressCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }

@@ -31,5 +31,6 @@ void addPathCommand(CLI::App& app, Commands& commands);
 void addCheckQuadsCommand(CLI::App& app, Commands& commands);
 void addPublishCommand(CLI::App& app, Commands& commands);
 void addReportCommand(CLI::App& app, Commands& commands);
+void addInfoCommand(CLI::App& app, Commands& commands);
 
 }  // namespace hw::app

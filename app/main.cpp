@@ -30,7 +30,7 @@ int runMain(int argc, char** argv) {
   using namespace hw::app;  // NOLINT
   CLI::App app{
       "hybridwalk: real-time walkthroughs that mix geometry and images (Zheng, Bao, Peng & Sun "
-      "1999).\nKeyframes are drawn with OpenGL (headless OSMesa); every frame between two "
+      "1999).\nKeyframes are drawn with OpenGL (headless EGL or OSMesa, --gl); every frame between two "
       "keyframes is backward-warped from their level-of-detail quad meshes.\nUnits: distances "
       "are the scene's; tau is in z' units of the 24-bit depth buffer (2^24 scale, eq. 2; the "
       "paper uses 2^11 and 2^15); times in ms."};
@@ -56,6 +56,7 @@ int runMain(int argc, char** argv) {
   addCheckQuadsCommand(app, commands);
   addPublishCommand(app, commands);
   addReportCommand(app, commands);
+  addInfoCommand(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <thread>
 
+#include "core/gl/context.h"
+
 #ifndef HW_GIT_COMMIT
 #define HW_GIT_COMMIT "unknown"
 #endif
@@ -31,9 +33,14 @@ nlohmann::json machineInfo(const std::string& glRenderer, const std::string& glV
   char host[256] = {0};
   ::gethostname(host, sizeof host - 1);
   const char* lp = std::getenv("LP_NUM_THREADS");
+  // Backend and vendor of the headless context these strings came from.
+  const gl::ContextStrings last = gl::lastHeadlessContextStrings();
+  const bool fromLast = !last.backend.empty() && last.renderer == glRenderer;
   return {{"cpu", cpuModel()},
           {"cores", std::thread::hardware_concurrency()},
           {"host", host},
+          {"gl_backend", fromLast ? last.backend : "unknown"},
+          {"gl_vendor", fromLast ? last.vendor : "unknown"},
           {"gl_renderer", glRenderer},
           {"gl_version", glVersion},
           {"lp_num_threads", lp ? lp : "unset"},

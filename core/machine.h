@@ -1,6 +1,7 @@
 #pragma once
-// What a benchmark ran on: CPU model, core count, llvmpipe thread setting,
-// build type and git commit (recorded in every report).
+// What a benchmark ran on: CPU model, core count, headless GL backend and
+// GL_VENDOR/RENDERER/VERSION, llvmpipe thread setting, build type and git
+// commit (recorded in every report).
 #include <nlohmann/json.hpp>
 
 #include <string>

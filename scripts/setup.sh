@@ -9,12 +9,12 @@
 set -euo pipefail
 pkgs=(
   build-essential cmake ninja-build pkg-config git
-  libosmesa6-dev libgl-dev mesa-common-dev libglfw3-dev libglm-dev libassimp-dev
+  libegl-dev libegl-mesa0 libosmesa6-dev libgl-dev mesa-common-dev libglfw3-dev libglm-dev libassimp-dev
   libstb-dev libcli11-dev nlohmann-json3-dev libzip-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 if [ "${1:-}" = "--test" ]; then
-  pkgs+=(xvfb xauth clang libclang-rt-14-dev chromium slurmd slurmctld slurm-client munge)
+  pkgs+=(ccache xvfb xauth clang libclang-rt-14-dev chromium slurmd slurmctld slurm-client munge)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

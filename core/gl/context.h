@@ -1,9 +1,12 @@
 #pragma once
-// One OpenGL 4.5 core context interface, two implementations: OSMesa
-// (headless, llvmpipe; the default everywhere) and a GLFW window. Creating
-// one loads the GL entry-point table (gl_api.h) from it. No GL headers here.
+// One OpenGL 4.5 core context interface, three implementations: headless
+// EGL (any driver: Mesa's surfaceless platform on llvmpipe, or a GPU picked by
+// EGL_EXT_platform_device), headless OSMesa (llvmpipe), and a GLFW window.
+// Creating one loads the GL entry-point table (gl_api.h) from it. No GL
+// headers here.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 
@@ -24,28 +27,81 @@ class Context {
  public:
   virtual ~Context() = default;
   virtual void makeCurrent() = 0;
-  // GL_RENDERER and GL_VERSION strings of this context.
+  // "egl", "osmesa" or "glfw", and the GL_VENDOR, GL_RENDERER and GL_VERSION
+  // strings of this context.
+  const std::string& backend() const { return backend_; }
+  const std::string& vendor() const { return vendor_; }
   const std::string& renderer() const { return renderer_; }
   const std::string& version() const { return version_; }
 
  protected:
-  std::string renderer_, version_;
+  std::string backend_, vendor_, renderer_, version_;
 };
 
-// OSMesa core-profile 4.5 context. Rendering goes to framebuffer objects; the
-// context's own buffer is a tiny placeholder. Error if Mesa cannot create it
-// (message says what to install or set). HW_GL_FAIL=1 in the environment makes
-// creation fail on purpose (to test that callers report it).
-Result<std::unique_ptr<Context>> createHeadlessContext();
+// Which library a headless context comes from. Auto: EGL when it gives a 4.5
+// core context, OSMesa otherwise.
+enum class Backend { Auto, Egl, OsMesa };
+const char* backendName(Backend b);                   // "auto", "egl", "osmesa"
+bool parseBackend(const std::string& s, Backend* out);  // false: not one of those
+// Whether this build has the backend (HW_WITH_EGL / HW_WITH_OSMESA at
+// configure time; Auto: always).
+bool backendBuilt(Backend b);
 
-// Another OSMesa context, to be made current on another thread (e.g. the
-// keyframe worker) while the first one stays in use. OSMesa's entry points
-// are per-thread dispatch stubs, so the table loaded for the first context
-// serves it unchanged; error when that table came from a GLFW window instead
-// (it would have to be refilled under the thread using it). Creation is
-// serialised with other context creations; the context belongs to the
-// thread that created it.
+struct HeadlessOptions {
+  Backend backend = Backend::Auto;
+  // Index into the EGL devices (eglQueryDevicesEXT, EGL_EXT_platform_device);
+  // −1: the first hardware device (not EGL_MESA_device_software); without
+  // one, Mesa's surfaceless platform (llvmpipe) when the EGL library has it,
+  // else device 0. Only EGL.
+  int eglDevice = -1;
+};
+// The process-wide choice createHeadlessContext() uses: starts as
+// HYBRIDWALK_GL from the environment (auto|egl|osmesa; unset = auto), set by
+// the CLI's --gl and --gl-device. A bad HYBRIDWALK_GL is reported by
+// createHeadlessContext.
+HeadlessOptions headlessOptions();
+void setHeadlessOptions(const HeadlessOptions& o);
+
+// A headless core-profile 4.5 context from the backend `o` asks for.
+// Rendering goes to framebuffer objects (EGL: no surface at all; OSMesa: a
+// tiny placeholder buffer). Error if it cannot be created (one line: what was
+// tried, what to install or set). HW_GL_FAIL=1 in the environment makes
+// creation fail on purpose for every backend (to test that callers report it).
+Result<std::unique_ptr<Context>> createHeadlessContext(const HeadlessOptions& o);
+Result<std::unique_ptr<Context>> createHeadlessContext();  // with headlessOptions()
+
+// Another headless context of the same backend (and EGL device) as the last
+// first one, to be made current on another thread (e.g. the keyframe worker)
+// while the first one stays in use. Both libraries hand out dispatch stubs
+// that call into the context current on the calling thread, so the table
+// loaded for the first context serves it unchanged (EGL: checked entry by
+// entry on the calling thread); error when that table came from a GLFW window
+// or another backend (it would have to be refilled under the thread using
+// it). Creation is serialised with other context creations; the context
+// belongs to the thread that created it.
 Result<std::unique_ptr<Context>> createSecondHeadlessContext();
+
+// Backend, GL_VENDOR, GL_RENDERER, GL_VERSION of the last first headless
+// context created in this process (all empty before one): what a report's
+// machine block records.
+struct ContextStrings {
+  std::string backend, vendor, renderer, version;
+};
+ContextStrings lastHeadlessContextStrings();
+
+// What `hybridwalk info` lists: one entry per way to get a headless context
+// on this machine (OSMesa; EGL's surfaceless platform; each EGL device),
+// each tried by creating a 4.5 core context and reading its strings.
+struct BackendProbe {
+  Backend backend = Backend::Egl;
+  int eglDevice = -1;   // −1: not a device (OSMesa, or EGL's default display)
+  std::string name;     // e.g. "EGL device 0 (EGL_MESA_device_software)"
+  std::string vendor, renderer, version;
+  bool core45 = false;  // a 4.5 core context was created and made current
+  std::string error;    // why not, when !core45
+};
+std::vector<BackendProbe> probeHeadlessBackends();
+
 
 class WindowContext : public Context {
  public:

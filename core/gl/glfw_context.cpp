@@ -21,7 +21,7 @@ void* glfwProc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAdd
 
 class GlfwContext final : public WindowContext {
  public:
-  explicit GlfwContext(GLFWwindow* w) : window_(w) {}
+  explicit GlfwContext(GLFWwindow* w) : window_(w) { backend_ = "glfw"; }
   ~GlfwContext() override {
     glfwDestroyWindow(window_);
     glfwTerminate();
@@ -32,6 +32,7 @@ class GlfwContext final : public WindowContext {
   bool shouldClose() override { return glfwWindowShouldClose(window_); }
   void pollEvents() override { glfwPollEvents(); }
   void setStrings() {
+    vendor_ = reinterpret_cast<const char*>(glGetString(GL_VENDOR));
     renderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     version_ = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   }
@@ -44,14 +45,16 @@ class GlfwContext final : public WindowContext {
 // GLFW stays initialised for the main window (no glfwTerminate here).
 class HiddenWindowContext final : public WindowContext {
  public:
-  explicit HiddenWindowContext(GLFWwindow* w) : window_(w) {}
+  explicit HiddenWindowContext(GLFWwindow* w) : window_(w) { backend_ = "glfw"; }
   ~HiddenWindowContext() override { glfwDestroyWindow(window_); }
   void makeCurrent() override { glfwMakeContextCurrent(window_); }
   GLFWwindow* window() override { return window_; }
   void swapBuffers() override { glfwSwapBuffers(window_); }
   bool shouldClose() override { return glfwWindowShouldClose(window_); }
   void pollEvents() override {}  // events are the main window's business
-  void setStrings(const std::string& renderer, const std::string& version) {
+  void setStrings(const std::string& vendor, const std::string& renderer,
+                  const std::string& version) {
+    vendor_ = vendor;
     renderer_ = renderer;
     version_ = version;
   }
@@ -66,6 +69,8 @@ class HiddenWindowContext final : public WindowContext {
 class AttachedContext final : public Context {
  public:
   explicit AttachedContext(WindowContext& w) : window_(w) {
+    backend_ = w.backend();
+    vendor_ = w.vendor();
     renderer_ = w.renderer();
     version_ = w.version();
   }
@@ -105,7 +110,7 @@ Result<std::unique_ptr<WindowContext>> createSecondWindowContext(WindowContext& 
   auto ctx = std::make_unique<HiddenWindowContext>(w);
   // Its strings, read through the table (checked per entry on the worker).
   ctx->makeCurrent();
-  ctx->setStrings(glString(GL_RENDERER), glString(GL_VERSION));
+  ctx->setStrings(glString(GL_VENDOR), glString(GL_RENDERER), glString(GL_VERSION));
   main.makeCurrent();
   return std::unique_ptr<WindowContext>(std::move(ctx));
 }

@@ -29,13 +29,20 @@ namespace hybridwalk {
 // Where the renderer draws.
 // A renderer is used from one thread at a time.
 enum class ContextKind {
-  Own,      // its own headless OSMesa context (llvmpipe; no display, no GPU),
-            // made current on the calling thread by each call (and left so)
+  Own,      // its own headless context (EGL or OSMesa: RendererDesc::headlessGl;
+            // no display needed), made current on the calling thread by each
+            // call (and left so)
   Current,  // the caller's OpenGL 4.5 core context, current on the calling
             // thread for every call (e.g. a GLFW window's); needs
             // RendererDesc::getProcAddress
 };
 using GetProcAddress = void* (*)(const char* name);
+
+// ContextKind::Own: the library its headless context comes from
+// (docs/gpu.md). Env: the HYBRIDWALK_GL environment variable (auto|egl|osmesa;
+// auto when unset). Auto: EGL when it gives an OpenGL 4.5 core context, else
+// OSMesa. The GL entry points are process-wide: one process uses one kind.
+enum class HeadlessGl { Env, Auto, Egl, OsMesa };
 
 enum class Mode {
   Hybrid,    // keyframes + warped frames
@@ -76,6 +83,8 @@ struct KeyframeDesc {
 struct RendererDesc {
   ContextKind context = ContextKind::Own;
   GetProcAddress getProcAddress = nullptr;  // ContextKind::Current: e.g. glfwGetProcAddress
+  HeadlessGl headlessGl = HeadlessGl::Env;  // ContextKind::Own
+  int eglDevice = -1;  // ContextKind::Own on EGL: an EGL device index (`hybridwalk info`); -1: default
   Mode mode = Mode::Hybrid;
   Preset preset = Preset::Default;
   LodDesc lod;

@@ -203,6 +203,18 @@ TEST(ApiFrames, BadInputIsAnError) {
   EXPECT_FALSE(r->render(*cam, f).ok());     // a path renderer
   EXPECT_FALSE(r->present(f, 64, 48).ok());  // its own context
 
+  desc = {};
+  desc.headlessGl = hwa::HeadlessGl::Egl;
+  desc.eglDevice = 99;
+  r = hwa::Renderer::create(*s, desc);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("EGL device 99 does not exist"), std::string::npos)
+      << r.error().message;
+  desc.eglDevice = 0;
+  r = hwa::Renderer::create(*s, desc);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_NE(r->glRenderer().find("llvmpipe"), std::string::npos) << r->glRenderer();
+
   r = hwa::Renderer::create(*s, {});
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_FALSE(r->renderNext(f).ok());  // no path

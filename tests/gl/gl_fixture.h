@@ -1,6 +1,8 @@
 #pragma once
-// One OSMesa context per test program. A context that cannot be created is a
-// test FAILURE, never a skip (CI must not pass without GL).
+// One headless context per test program, from the default backend (--gl
+// auto: EGL where it gives 4.5 core, else OSMesa; HYBRIDWALK_GL picks one). A
+// context that cannot be created is a test FAILURE, never a skip (CI must not
+// pass without GL).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -24,7 +26,7 @@ inline gl::Context* glContext() {
 class GlTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    ASSERT_NE(glContext(), nullptr) << "OSMesa context could not be created";
+    ASSERT_NE(glContext(), nullptr) << "headless OpenGL context could not be created";
     glContext()->makeCurrent();
   }
 };
