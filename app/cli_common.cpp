@@ -438,8 +438,16 @@ constexpr int kDescColumn = 30;  // where option descriptions start
 
 // "  LEFT  description..." with the description from kDescColumn (on the
 // next line when LEFT is wider), wrapped at the help width.
-std::string helpEntry(const std::string& left, const std::string& desc) {
-  std::string out = "  " + left;
+std::string helpEntry(std::string left, const std::string& desc) {
+  // A left column wider than a line (a long value set) breaks after a comma.
+  std::string lines;
+  while (columns(left) + 2 > GroupedHelp::kHelpColumns) {
+    std::size_t cut = left.rfind(',', GroupedHelp::kHelpColumns - 3);
+    if (cut == std::string::npos || cut == 0) break;
+    lines += "  " + left.substr(0, cut + 1) + "\n";
+    left = "    " + left.substr(cut + 1);
+  }
+  std::string out = lines + "  " + left;
   int used = columns(out);
   if (desc.empty()) return out + "\n";
   if (used + 2 > kDescColumn) {

@@ -394,7 +394,7 @@ WalkRows walkRows() {
         char* end = nullptr;
         const double x = std::strtod(v.c_str(), &end);
         if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1e9)
-          return "expected a positive number of MiB, got '" + v + "'";
+          return "expected a finite number of MiB above 0, got '" + v + "'";
         o->keyframeCacheBytes = static_cast<std::size_t>(x * 1024 * 1024);
         return {};
       },
