@@ -178,8 +178,20 @@ int refusePaperDeparture(session::Preset preset, const session::WalkOptions& wo,
                    "); drop one of them");
 }
 
+CLI::Option* addTauText(CLI::App* c, std::string& tau) {
+  return c->add_option("--tau", tau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            double x = 0;
+            if (parseTau(v, &x)) return {};
+            return "expected a non-negative number like 2048 or 2^11, got '" + v + "'";
+          },
+          "TAU", "tau"))
+      ->capture_default_str();
+}
+
 void addStudyLodOptions(CLI::App* c, StudyLod& o) {
-  c->add_option("--tau", o.tau, "LOD threshold in z' units ('2^11' or '2048')")->capture_default_str();
+  addTauText(c, o.tau);
   c->add_option("--planarity", o.planarity, "stencil (paper) or region-local")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();

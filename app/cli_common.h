@@ -98,6 +98,10 @@ struct DistributeCli {
 };
 
 void addStudyLodOptions(CLI::App* c, StudyLod& o);
+// --tau in z' units as a text ('2^11' or '2048'), checked while parsing (a
+// bad value is a usage error), for the commands outside the walk's option
+// table (lod, schedule-study, schedule-oracle).
+CLI::Option* addTauText(CLI::App* c, std::string& tau);
 // Empty on success, else the message for the user.
 std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod);
 // --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
