@@ -27,6 +27,63 @@ int failUsage(const std::string& msg) {
   return kExitUsage;
 }
 
+std::string closestName(const std::string& typed, const std::vector<std::string>& known) {
+  // Optimal string alignment distance: a swap of two letters is one edit.
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i)
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+        d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    return d[a.size()][b.size()];
+  };
+  std::string best;
+  std::size_t bestD = std::max<std::size_t>(2, typed.size() / 4) + 1;
+  for (const std::string& k : known)
+    if (const std::size_t dk = distance(typed, k); dk < bestD) {
+      bestD = dk;
+      best = k;
+    }
+  return best;
+}
+
+int reportParseError(const CLI::App& app, const CLI::ParseError& e) {
+  if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+  std::string msg = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    const CLI::App* where = &app;
+    for (bool deeper = true; deeper;) {
+      deeper = false;
+      for (const CLI::App* sub : where->get_subcommands())
+        if (sub->parsed()) {
+          where = sub;
+          deeper = true;
+          break;
+        }
+    }
+    for (const std::string& arg : app.remaining(true)) {
+      if (arg.size() < 2 || arg[0] != '-') continue;
+      const std::string typed = arg.substr(0, arg.find('='));
+      std::vector<std::string> known;
+      for (const CLI::Option* o : where->get_options())
+        for (const std::string& n : o->get_lnames()) known.push_back("--" + n);
+      const std::string command = where == &app ? "hybridwalk" : where->get_name();
+      msg = "unknown option '" + typed + "' for " + command;
+      if (const std::string near = closestName(typed, known); !near.empty())
+        msg += "; did you mean " + near + "?";
+      break;
+    }
+  }
+  fail(msg);
+  std::fprintf(stderr, "Run with --help for more information.\n");
+  return kExitUsage;
+}
+
 // "2048", "2^11", "1e3" → value; error text otherwise.
 bool parseTau(const std::string& s, double* out) {
   try {
@@ -105,38 +162,9 @@ bool parseTauGradient(const std::string& s, double* out, std::string* err) {
 }
 
 
-std::string PresetCli::formatNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 int applyPresetCli(const CLI::App* c, const PresetCli& o, session::Preset* preset,
                    session::WalkOptions* out) {
-  *preset = session::Preset::Default;
-  session::parsePreset(o.preset, preset);  // checked by the option's validator
-  session::WalkOptions& wo = *out;
-  wo = session::presetOptions(*preset);
-  auto given = [&](const char* name) {
-    const CLI::Option* opt = c->get_option_no_throw(name);
-    return opt != nullptr && opt->count() > 0;
-  };
-  if (given("--mode")) session::parseFrameMode(o.mode, &wo.mode);
-  if (given("--tau")) {
-    if (!parseTau(o.tau, &wo.lod.tau))
-      return fail("--tau: expected a non-negative number like 2048 or 2^11, got '" + o.tau + "'");
-    wo.lod.tauParallaxPx = 0;  // the threshold in z' units
-  }
-  if (given("--tau-px")) wo.lod.tauParallaxPx = o.tauPx;
-  if (given("--criterion")) keyframe::parseDeltaCriterion(o.criterion.c_str(), &wo.lod.criterion);
-  if (given("--planarity")) keyframe::parsePlanarity(o.planarity.c_str(), &wo.lod.planarity);
-  if (given("--merge-strips") || given("--no-merge-strips")) wo.lod.mergeStrips = o.mergeStrips;
-  if (given("--split-misfit") || given("--no-split-misfit")) wo.lod.splitMisfit = o.splitMisfit;
-  if (given("--tau-gradient"))
-    if (std::string err; !parseTauGradient(o.tauGradient, &wo.lod.tauGradient, &err))
-      return fail(err);
-  if (given("--async-keyframes") || given("--sync-keyframes"))
-    wo.asyncKeyframes = o.asyncKeyframes;
+  resolveWalkOptions(c, o, preset, out);
   return 0;
 }
 
@@ -150,8 +178,20 @@ int refusePaperDeparture(session::Preset preset, const session::WalkOptions& wo,
                    "); drop one of them");
 }
 
+CLI::Option* addTauText(CLI::App* c, std::string& tau) {
+  return c->add_option("--tau", tau, "LOD threshold in z' units ('2^11' or '2048')")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            double x = 0;
+            if (parseTau(v, &x)) return {};
+            return "expected a non-negative number like 2048 or 2^11, got '" + v + "'";
+          },
+          "TAU", "tau"))
+      ->capture_default_str();
+}
+
 void addStudyLodOptions(CLI::App* c, StudyLod& o) {
-  c->add_option("--tau", o.tau, "LOD threshold in z' units ('2^11' or '2048')")->capture_default_str();
+  addTauText(c, o.tau);
   c->add_option("--planarity", o.planarity, "stencil (paper) or region-local")
       ->check(CLI::IsMember({"stencil", "region-local"}))
       ->capture_default_str();
@@ -255,42 +295,16 @@ CLI::Validator wholeFrames(long lo, long hi, const std::string& name) {
 }
 
 
-void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what) {
-  c->add_option("--frame-budget-ms", o.arg,
-                "Per-frame time budget in milliseconds of frame work (0 = off), or 'auto': " +
-                    what +
-                    ". 'auto' sets each frame's budget to the --frame-budget-quantile of the "
-                    "work of the last --frame-budget-window frames, so the frame rate stays "
-                    "steady on any scene and machine")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            if (v == "auto") return {};
-            char* end = nullptr;
-            const double x = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end != '\0' || !std::isfinite(x) || x < 0 || x > 60000)
-              return "expected milliseconds from 0 (off) to 60000, or 'auto', got '" + v + "'";
-            return {};
-          },
-          "MS|auto", "frame budget"))
-      ->capture_default_str();
-  c->add_option("--frame-budget-quantile", o.quantile,
-                "With --frame-budget-ms auto: the budget is this quantile of the recent "
-                "frames' work (walk: in-between frames, without their refresh; above 0, at most 1; 0.9 = 90th percentile: about one frame in "
-                "ten is late, the others present at the budget)")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            char* end = nullptr;
-            const double x = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end != '\0' || !std::isfinite(x) || x <= 0 || x > 1)
-              return "expected a quantile above 0 and at most 1, got '" + v + "'";
-            return {};
-          },
-          "Q", "budget quantile"))
-      ->capture_default_str();
-  c->add_option("--frame-budget-window", o.window,
-                "With --frame-budget-ms auto: how many of the last frames the quantile is taken "
-                "over (frames, 1 to 100000)")
-      ->check(wholeFrames(1, 100000, "budget window"))
+void addScenePath(CLI::App* c, Common& o) {
+  c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
+  c->add_option("--path", o.path,
+                "Camera path JSON (docs/camera-path.md: width, height, fov_y_deg, near, far, up, "
+                "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
+                "scene's built-in path ('hybridwalk path --scene S' prints it)");
+  c->add_option("--keyframe-every", o.keyframeEvery,
+                "Frames from one keyframe to the next: replaces the path's keyframe_every "
+                "(0 = the path's)")
+      ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
 }
 
@@ -319,7 +333,7 @@ void addGlOptions(CLI::App* c) {
 
 void addCommon(CLI::App* c, Common& o) {
   addGlOptions(c);
-  c->add_option("--scene", o.scene, scenes::sceneSpecHelp())->capture_default_str();
+  addScenePath(c, o);
   c->add_option("--speed", o.pathOptions.metresPerFrame,
                 "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
                 "over 240 frames)")
@@ -328,10 +342,6 @@ void addCommon(CLI::App* c, Common& o) {
                 "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
                 "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
       ->check(CLI::NonNegativeNumber);
-  c->add_option("--path", o.path,
-                "Camera path JSON (docs/camera-path.md: width, height, fov_y_deg, near, far, up, "
-                "keys[{eye, look_at}], frames, keyframe_every; scene units). Default: the "
-                "scene's built-in path ('hybridwalk path --scene S' prints it)");
   c->add_option("--depth", o.depth,
                 "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
                 "far/near 1e5..1e6), fixed24 (the paper's 24-bit z-buffer), float32; all mapped "
@@ -392,6 +402,7 @@ Result<Loaded> loadInputs(const Common& o) {
   }
   if (o.width > 0) l.path.width = o.width;
   if (o.height > 0) l.path.height = o.height;
+  if (o.keyframeEvery > 0) l.path.keyframeEvery = o.keyframeEvery;
   auto ctx = gl::createHeadlessContext();
   if (!ctx) return ctx.error();
   l.context = std::move(*ctx);
@@ -451,6 +462,101 @@ std::string GroupedHelp::make_help(const CLI::App* app, std::string name,
     out += make_group(g, false, opts);
   }
   return out + make_subcommands(app, mode) + "\n" + make_footer(app);
+}
+
+namespace {
+int columns(const std::string& s) {
+  int n = 0;
+  for (unsigned char ch : s) n += (ch & 0xC0) != 0x80;
+  return n;
+}
+constexpr int kDescColumn = 30;  // where option descriptions start
+
+// "  LEFT  description..." with the description from kDescColumn (on the
+// next line when LEFT is wider), wrapped at the help width.
+std::string helpEntry(std::string left, const std::string& desc) {
+  // A left column wider than a line (a long value set) breaks after a comma.
+  std::string lines;
+  while (columns(left) + 2 > GroupedHelp::kHelpColumns) {
+    std::size_t cut = left.rfind(',', GroupedHelp::kHelpColumns - 3);
+    if (cut == std::string::npos || cut == 0) break;
+    lines += "  " + left.substr(0, cut + 1) + "\n";
+    left = "    " + left.substr(cut + 1);
+  }
+  std::string out = lines + "  " + left;
+  int used = columns(out);
+  if (desc.empty()) return out + "\n";
+  if (used + 2 > kDescColumn) {
+    out += "\n";
+    used = 0;
+  }
+  out += std::string(static_cast<std::size_t>(kDescColumn - used), ' ');
+  return out + wrapText(desc, kDescColumn, kDescColumn, GroupedHelp::kHelpColumns) + "\n";
+}
+}  // namespace
+
+std::string wrapText(const std::string& text, int indent, int used, int width) {
+  std::string out;
+  int col = used;
+  bool lineEmpty = true;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    if (text[i] == '\n') {
+      out += "\n" + std::string(static_cast<std::size_t>(indent), ' ');
+      col = indent;
+      lineEmpty = true;
+      ++i;
+      continue;
+    }
+    if (text[i] == ' ') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < text.size() && text[j] != ' ' && text[j] != '\n') ++j;
+    const std::string word = text.substr(i, j - i);
+    const int w = columns(word);
+    if (!lineEmpty && col + 1 + w > width) {
+      out += "\n" + std::string(static_cast<std::size_t>(indent), ' ');
+      col = indent;
+      lineEmpty = true;
+    }
+    if (!lineEmpty) {
+      out += ' ';
+      ++col;
+    }
+    out += word;
+    col += w;
+    lineEmpty = false;
+    i = j;
+  }
+  return out;
+}
+
+std::string GroupedHelp::make_option_name(const CLI::Option* opt, bool isPositional) const {
+  if (isPositional) return CLI::Formatter::make_option_name(opt, isPositional);
+  std::string names;
+  for (const std::string& n : opt->get_snames()) names += (names.empty() ? "-" : ", -") + n;
+  for (const std::string& n : opt->get_lnames()) names += (names.empty() ? "--" : ", --") + n;
+  return names;
+}
+
+std::string GroupedHelp::make_option(const CLI::Option* opt, bool isPositional) const {
+  std::string left = make_option_name(opt, isPositional);
+  if (!isPositional && opt->get_type_name().empty())  // a flag; a pair shows its default
+    left += opt->get_default_str().empty() ? "" : " (default: " + opt->get_default_str() + ")";
+  else
+    left += make_option_opts(opt);
+  return helpEntry(left, make_option_desc(opt));
+}
+
+std::string GroupedHelp::make_description(const CLI::App* app) const {
+  const std::string d = app->get_description();
+  return d.empty() ? std::string() : wrapText(d, 0, 0, kHelpColumns) + "\n";
+}
+
+std::string GroupedHelp::make_subcommand(const CLI::App* sub) const {
+  return helpEntry(sub->get_display_name(true), sub->get_description());
 }
 
 void setGroups(CLI::App* c,

@@ -15,6 +15,7 @@
 #include "core/result.h"
 #include "session/keyframe_planner.h"
 #include "session/presets.h"
+#include "app/options/walk_options.h"
 #include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
@@ -30,6 +31,12 @@ int fail(const std::string& msg);
 // The same for options that cannot go together or a value out of its set;
 // returns kExitUsage.
 int failUsage(const std::string& msg);
+// A command line CLI11 refused: --help and --version print and return 0;
+// anything else is "hybridwalk: error: ..." (an unknown option with "did you
+// mean --X?" when a known one is close) and kExitUsage.
+int reportParseError(const CLI::App& app, const CLI::ParseError& e);
+// The name of `known` closest to `typed` (few edits), or "" when none is close.
+std::string closestName(const std::string& typed, const std::vector<std::string>& known);
 
 // "2048", "2^11", "1e3" → value (finite, >= 0); false otherwise.
 bool parseTau(const std::string& s, double* out);
@@ -57,43 +64,17 @@ struct Common {
   std::string depth = depthModeName(kDefaultDepthMode);
   int frames = 0;  // stop after this many frames (0 = all)
   int width = 0, height = 0;  // frame size, pixels (0 = the path's)
+  int keyframeEvery = 0;      // frames between keyframes (0 = the path's keyframe_every)
   scenes::DefaultPathOptions pathOptions;  // --speed, --eye-height
 };
 
-// --frame-budget-ms MS|auto with --frame-budget-quantile and --frame-budget-window
-// (walk and view; session/frame_budget.h).
-struct FrameBudgetCli {
-  std::string arg = "0";
-  double quantile = 0.9;
-  int window = 30;
-  bool isAuto() const { return arg == "auto"; }
-  double ms() const { return isAuto() ? 0.0 : std::strtod(arg.c_str(), nullptr); }
-};
-
-// --preset and the options that replace what a preset sets for the frame
-// mode and the LOD (walk, bake, view: session/presets.h). Each value starts as
-// the Default preset's, so --help shows the default; it is read only when its
-// option is given (registered by the command under these names: --preset,
-// --mode, --tau, --tau-px, --criterion, --planarity, --merge-strips /
-// --no-merge-strips, --split-misfit / --no-split-misfit, --tau-gradient,
-// --async-keyframes / --sync-keyframes).
-struct PresetCli {
-  const session::WalkOptions defaults = session::presetOptions(session::Preset::Default);
-  std::string preset = session::presetName(session::Preset::Default);
-  std::string mode = session::frameModeName(defaults.mode);
-  std::string tau;  // z' units, '2^11' or '2048'; replaces the preset's --tau-px
-  double tauPx = defaults.lod.tauParallaxPx;
-  std::string criterion = keyframe::deltaCriterionName(defaults.lod.criterion);
-  std::string planarity = keyframe::planarityName(defaults.lod.planarity);
-  bool mergeStrips = defaults.lod.mergeStrips;
-  bool splitMisfit = defaults.lod.splitMisfit;
-  std::string tauGradient = formatNumber(defaults.lod.tauGradient);
-  bool asyncKeyframes = defaults.asyncKeyframes;
-  static std::string formatNumber(double v);  // "%g"
-};
-// The options of the preset named by `o` (validated by its option), then each
-// option of `o` given on `c`'s command line. 0, or the exit code after an
-// error message (a --tau or --tau-gradient that is not a number).
+// --preset and the options that replace what a preset sets (walk, bake,
+// view): the option set of app/options/walk_options.h, bound to a
+// session::WalkOptions that starts as the Default preset's, so --help shows
+// the default; an option is read only when it is given.
+using PresetCli = WalkOptionSet;
+// The options of the preset named by `o`, then each option of `o` given on
+// `c`'s command line (values were checked while parsing). Returns 0.
 int applyPresetCli(const CLI::App* c, const PresetCli& o, session::Preset* preset,
                    session::WalkOptions* out);
 // With --preset paper, the first setting of `wo` that departs from the paper
@@ -117,6 +98,10 @@ struct DistributeCli {
 };
 
 void addStudyLodOptions(CLI::App* c, StudyLod& o);
+// --tau in z' units as a text ('2^11' or '2048'), checked while parsing (a
+// bad value is a usage error), for the commands outside the walk's option
+// table (lod, schedule-study, schedule-oracle).
+CLI::Option* addTauText(CLI::App* c, std::string& tau);
 // Empty on success, else the message for the user.
 std::string applyStudyLod(const StudyLod& o, keyframe::LodOptions* lod);
 // --spacings: comma-separated whole frame counts from 1 to maxSpacing (0 = no
@@ -128,10 +113,11 @@ void addPlannerOptions(CLI::App* c, session::PlannerOptions& p, std::string& pre
                        std::string& planBy, bool withAuto);
 // A whole number of frames in [lo, hi].
 CLI::Validator wholeFrames(long lo, long hi, const std::string& name);
-void addFrameBudgetOptions(CLI::App* c, FrameBudgetCli& o, const std::string& what);
 // --scene, --path, --depth, --frames (and the size overrides) of every command
 // on a path, and addGlOptions.
 void addCommon(CLI::App* c, Common& o);
+// --scene, --path and --keyframe-every (addCommon's; the viewer's too).
+void addScenePath(CLI::App* c, Common& o);
 // --gl auto|egl|osmesa and --gl-device N: the headless OpenGL backend of a
 // command that renders (they set gl::setHeadlessOptions when given; default
 // HYBRIDWALK_GL, else auto; docs/gpu.md). A --gl value outside the set is a
@@ -146,10 +132,20 @@ void addDistribute(CLI::App* c, DistributeCli& o, const char* unit);
 // --help with the option groups in a fixed order: Essentials, Options, Level of
 // detail, Composition, Keyframes, Timing, Studies (then any other). Set on the
 // top-level app before its subcommands are added; they inherit it.
+// Lines are wrapped at kHelpColumns; a flag pair shows its names and its
+// default ("--merge-strips, --no-merge-strips (default: on)").
 class GroupedHelp : public CLI::Formatter {
  public:
+  static constexpr int kHelpColumns = 100;
   std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override;
+  std::string make_option(const CLI::Option* opt, bool isPositional) const override;
+  std::string make_option_name(const CLI::Option* opt, bool isPositional) const override;
+  std::string make_description(const CLI::App* app) const override;
+  std::string make_subcommand(const CLI::App* sub) const override;
 };
+// `text` wrapped at `width` columns (UTF-8 code points), every line after
+// the first indented by `indent`, the first starting at column `used`.
+std::string wrapText(const std::string& text, int indent, int used, int width);
 // Puts each named option (long name, e.g. "--tau") of `c` into its group;
 // "--help" may be named too. A name `c` does not have is our bug (checked).
 void setGroups(CLI::App* c,

@@ -158,28 +158,8 @@ void addBakeCommand(CLI::App& app, Commands& commands) {
               "'walk --keyframes DB'; --slurm runs it as a Slurm job array");
   addCommon(bakeCmd, o.bakeC);
   bakeCmd->add_option("--out", o.bakeOut, "Database directory (created)")->required();
-  bakeCmd->add_option("--preset", o.pc.preset, "LOD settings to start from, as for walk: default or paper")
-      ->check(CLI::IsMember({"default", "paper"}))
-      ->capture_default_str();
-  bakeCmd->add_option("--tau", o.pc.tau, "LOD threshold in z' units, as for walk; replaces --tau-px");
-  bakeCmd->add_option("--tau-px", o.pc.tauPx, "Parallax threshold in pixels per scene unit, as for walk")
-      ->check(CLI::NonNegativeNumber)
-      ->excludes("--tau")
-      ->capture_default_str();
-  bakeCmd->add_option("--criterion", o.pc.criterion, "five-point or per-axis-max, as for walk")
-      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
-      ->capture_default_str();
-  bakeCmd->add_option("--planarity", o.pc.planarity, "stencil or region-local, as for walk")
-      ->check(CLI::IsMember({"stencil", "region-local"}))
-      ->capture_default_str();
-  bakeCmd->add_flag("--merge-strips,!--no-merge-strips", o.pc.mergeStrips,
-                    "Merge adjacent coplanar leaves, or not, as for walk")
-      ->capture_default_str();
-  bakeCmd->add_flag("--split-misfit,!--no-split-misfit", o.pc.splitMisfit,
-                    "Cut leaves whose plane misses their pixels, or not, as for walk")
-      ->capture_default_str();
-  bakeCmd->add_option("--tau-gradient", o.pc.tauGradient, tauGradientHelp() + "; as for walk")
-      ->capture_default_str();
+  addWalkOptionSet(bakeCmd, &o.pc, bakeRows(),
+                   "LOD settings to start from, as for walk: default or paper");
   bakeCmd->add_option("--keyframes-per-task", o.bakePerTask,
                       "Keyframes per chunk (--slurm array task or --workers process)")
       ->check(CLI::Range(1, 1 << 20))

@@ -121,8 +121,7 @@ void addLodCommand(CLI::App& app, Commands& commands) {
   lod->add_option("--frame", o.lodFrame, "Frame index on the path to use as the keyframe")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  lod->add_option("--tau", o.lodTau, "LOD threshold in z' units ('2^11' or '2048')")
-      ->capture_default_str();
+  addTauText(lod, o.lodTau);
   lod->add_option("--criterion", o.lodCriterion, "five-point or per-axis-max")
       ->check(CLI::IsMember({"five-point", "per-axis-max"}))
       ->capture_default_str();

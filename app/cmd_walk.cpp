@@ -60,28 +60,11 @@ struct WalkCli {
   CLI::App* walk = nullptr;
   Common walkC;
   std::string walkOut = "out/walk";
-  // The preset's settings are the defaults; an option given replaces one.
-  PresetCli pc;  // --preset, --mode and the LOD options the viewer and bake share
-  const session::WalkOptions& defaults = pc.defaults;
-  std::string compose = gapfill::composeModeName(defaults.inBetween.compose.mode);
-  std::string fallback = "copy";
-  bool renderHoles = defaults.renderHoles;
-  double renderHolesBudget = defaults.renderHolesBudget;
-  float blendSoftness = 0.05f;
-  std::string texcoords = "projective";
-  bool noRef = false;
-  bool saveFrames = false;
+  // --preset and every option bound to session::WalkOptions (app/options/
+  // walk_options.h): the preset's settings are the defaults; an option given
+  // replaces one.
+  PresetCli pc;
   bool quiet = false;
-  bool noSky = false;
-  std::string layers = "fused";
-  bool noSkipBg = false;
-  bool noSkipPrev = false;
-  double nearDistance = defaults.inBetween.nearDistance;
-  std::string subdivide = warp::subdivisionName(defaults.warp.subdivision);
-  std::string primitives = "indexed";
-  bool cullBg = false;
-  int subdivideCell = 16;
-  int strips = 4;
   std::string walkKeyframes;
   std::string schedule = "fixed";
   std::string walkPredictor = "holes+distance";
@@ -93,17 +76,6 @@ struct WalkCli {
   double walkCalWindow = 0;
   int walkVerifyRounds = 0;
   double walkVerifyOptimism = 1.0;
-  double keyframeCacheMb = 256;
-  int keyframePrefetch = 2;
-  std::size_t keyframeFlushTriangles = 8192;
-  int keyframeWorkerNice = 0;
-  int keyframeStepsPerFrame = 2;
-  std::string keyframePacing = "time";
-  double keyframeBudgetScale = 2.0;
-  FrameBudgetCli fb;
-  int staleAfter = 2;
-  bool noFramePacing = false;
-  bool pixelAge = false;
 };
 
 // The preset's options, then each option given on the command line; with
@@ -113,22 +85,11 @@ int presetAndGiven(WalkCli& o, session::WalkOptions* out) {
   if (const int code = applyPresetCli(o.walk, o.pc, &preset, out); code != 0) return code;
   session::WalkOptions& wo = *out;
   auto given = [&](const char* name) { return o.walk->count(name) > 0; };
-  if (given("--compose"))
-    gapfill::parseComposeMode(o.compose.c_str(), &wo.inBetween.compose.mode);
-  if (given("--near")) wo.inBetween.nearDistance = o.nearDistance;
-  if (given("--fallback")) gapfill::parseFallback(o.fallback.c_str(), &wo.inBetween.fallback);
-  if (given("--render-holes") || given("--no-render-holes")) wo.renderHoles = o.renderHoles;
-  if (given("--render-holes-budget")) wo.renderHolesBudget = o.renderHolesBudget;
-  if (given("--blend-softness")) wo.inBetween.compose.blendSoftness = o.blendSoftness;
-  if (given("--subdivide"))
-    wo.warp.subdivision = o.subdivide == "uniform"    ? warp::Subdivision::Uniform
-                          : o.subdivide == "adaptive" ? warp::Subdivision::Adaptive
-                                                      : warp::Subdivision::None;
   if (const int code = refusePaperDeparture(preset, wo); code != 0) return code;
   // An adaptive schedule plans keyframes for frames that are all warped.
   if (o.schedule == "adaptive") {
     if (given("--mode") && wo.mode != session::FrameMode::Hybrid)
-      return failUsage("--mode " + o.pc.mode +
+      return failUsage(std::string("--mode ") + session::frameModeName(wo.mode) +
                        ": --schedule adaptive plans keyframes for warped frames; expected "
                        "--mode hybrid (or no --mode)");
     wo.mode = session::FrameMode::Hybrid;
@@ -206,18 +167,7 @@ std::string plannedWalkOptions(WalkCli& o, int frames, session::PlannedWalkOptio
 int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   session::WalkOptions wo;
   if (const int code = presetAndGiven(o, &wo); code != 0) return code;
-  wo.warp.texcoords = o.texcoords == "affine" ? warp::TexcoordMode::Affine : warp::TexcoordMode::Projective;
-  wo.warp.skyBackdrop = !o.noSky;
-  wo.inBetween.fusedLayers = o.layers == "fused";
-  wo.inBetween.skipBackground = !o.noSkipBg;
-  wo.inBetween.skipPrevious = !o.noSkipPrev;
-  wo.warp.subdivideCellPx = o.subdivideCell;
-  warp::parsePrimitives(o.primitives.c_str(), &wo.warp.primitives);
-  wo.warp.cullBackground = o.cullBg;
   wo.depthMode = depthModeOf(o.walkC.depth);
-  wo.reference = !o.noRef;
-  wo.saveFrames = o.saveFrames;
-  wo.strips = o.strips;
   wo.maxFrames = o.walkC.frames;
   wo.outDir = o.walkOut;
   wo.progress = !o.quiet;
@@ -225,32 +175,26 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
   if (o.schedule == "adaptive" && o.walkPlan.minGap > o.walkPlan.maxGap)
     return fail("--min-gap " + std::to_string(o.walkPlan.minGap) + " exceeds --max-gap " +
                 std::to_string(o.walkPlan.maxGap));
-  wo.keyframeCacheBytes = static_cast<std::size_t>(o.keyframeCacheMb * 1024 * 1024);
-  wo.keyframePrefetch = o.keyframePrefetch;
-  wo.keyframeFlushTriangles = o.keyframeFlushTriangles;
-  wo.keyframeWorkerNice = o.keyframeWorkerNice;
-  wo.keyframeStepsPerFrame = o.keyframeStepsPerFrame;
-  wo.keyframePacing = o.keyframePacing == "time"     ? session::WalkOptions::KeyframePacing::Time
-                     : o.keyframePacing == "slices" ? session::WalkOptions::KeyframePacing::Slices
-                     : o.keyframePacing == "steps"  ? session::WalkOptions::KeyframePacing::Steps
-                                                  : session::WalkOptions::KeyframePacing::None;
-  wo.keyframeBudgetScale = o.keyframeBudgetScale;
-  const bool frameBudgetAuto = o.fb.isAuto();
-  const double frameBudgetMs = o.fb.ms();
-  wo.frameBudgetMs = frameBudgetMs;
-  wo.frameBudgetAuto = frameBudgetAuto;
-  wo.frameBudgetQuantile = o.fb.quantile;
-  wo.frameBudgetWindow = o.fb.window;
-  wo.staleAfter = o.staleAfter;
-  wo.paceFrames = !o.noFramePacing;
-  wo.pixelAge = o.pixelAge;
+  if (!o.walkKeyframes.empty() && o.schedule == "adaptive")
+    return failUsage("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
+  if (o.schedule != "adaptive")  // the calibration options only shape an adaptive plan
+    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty",
+                            "--verify-rounds", "--verify-optimism"})
+      if (o.walk->count(opt) > 0)
+        return fail(std::string(opt) + ": expected --schedule adaptive (it shapes the planned "
+                    "schedule), got --schedule " + o.schedule);
+  // The database is opened before the scene loads: a wrong folder fails at once.
+  std::optional<keyframe::KeyframeDb> db;
+  if (!o.walkKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
+    auto d = keyframe::KeyframeDb::open(o.walkKeyframes);
+    if (!d) return fail(d.error().message);
+    db.emplace(std::move(*d));
+  }
   auto in = loadInputs(o.walkC);
   if (!in) return fail(in.error().message);
   wo.glRenderer = in->context->renderer();
   wo.glVersion = in->context->version();
-  if (!o.walkKeyframes.empty()) {  // baked keyframes (docs/keyframe-db.md)
-    auto db = keyframe::KeyframeDb::open(o.walkKeyframes);
-    if (!db) return fail(db.error().message);
+  if (db) {
     const int frames = session::bakeFrames(in->path, o.walkC.frames);
     if (auto st = db->checkMatches(session::bakeProvenance(o.walkC.scene, in->scene.triangleCount(), in->path,
                                                          frames, wo.lod, wo.depthMode));
@@ -262,15 +206,7 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
-  if (!o.walkKeyframes.empty() && o.schedule == "adaptive")
-    return fail("--keyframes and --schedule adaptive: a baked database has its own keyframe schedule");
   std::optional<session::PlannedWalk> planned;  // adaptive: the plan and its predictions
-  if (o.schedule != "adaptive")  // the calibration options only shape an adaptive plan
-    for (const char* opt : {"--calibrate-spacing", "--calibration-window", "--plan-uncertainty",
-                            "--verify-rounds", "--verify-optimism"})
-      if (o.walk->count(opt) > 0)
-        return fail(std::string(opt) + ": expected --schedule adaptive (it shapes the planned "
-                    "schedule), got --schedule " + o.schedule);
   if (o.schedule == "adaptive") {
     const int frames = wo.maxFrames > 0 ? std::min(wo.maxFrames, in->path.frames) : in->path.frames;
     session::PlannedWalkOptions pw;
@@ -312,146 +248,27 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       "walk", "The main job: a hybrid walkthrough along a camera path, measured against the "
               "geometry renderer; writes report.json, strips and (optionally) frames");
   addCommon(walk, o.walkC);
-  walk->add_option("--preset", o.pc.preset,
+  addWalkOptionSet(walk, &o.pc, walkRows(),
                    "Settings to start from: default (measured best on many scenes: --mode auto, "
-                   "--tau-px 0.125, region-local planarity, merged strips, misfit leaves split, "
+                   "--tau-px " +
+                       formatOptionNumber(
+                           session::presetOptions(session::Preset::Default).lod.tauParallaxPx) +
+                       ", region-local planarity, merged strips, misfit leaves split, "
                    "keyframes built ahead, larger holes drawn by the geometry renderer) or paper "
                    "(Zheng et al. 1999 exactly: every frame warped, --tau 2^11, five-point "
                    "stencil, overlay, no merging, no near geometry, no subdivision, holes copied "
                    "from the previous frame); "
                    "options given replace the preset's, except that with paper an option "
-                   "departing from the paper is an error (--tau may vary)")
-      ->check(CLI::IsMember({"default", "paper"}))
-      ->capture_default_str();
-  walk->add_option("--mode", o.pc.mode,
-                   "How frames are drawn: auto (per keyframe segment, warped or drawn as "
-                   "geometry, whichever costs less as measured in this run; geometry when about "
-                   "even), hybrid (every frame warped or a keyframe, the paper's) or geometry "
-                   "(every frame drawn by the geometry renderer; no keyframes)")
-      ->check(CLI::IsMember({"auto", "hybrid", "geometry"}))
-      ->capture_default_str();
-  walk->add_option("--tau", o.pc.tau,
-                   "LOD threshold on |Δ²z'| in z' units (2^24 scale), '2^11' or '2048' form; "
-                   "replaces --tau-px (the paper's threshold; --preset paper: 2^11)");
-  walk->add_option("--tau-px", o.pc.tauPx,
-                   "LOD threshold as parallax error: pixels per scene unit of camera motion (the "
-                   "same meaning indoors and out); 0 = use --tau")
-      ->check(CLI::NonNegativeNumber)
-      ->excludes("--tau")
-      ->capture_default_str();
-  walk->add_option("--criterion", o.pc.criterion,
-                   "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))")
-      ->check(CLI::IsMember({"five-point", "per-axis-max"}))
-      ->capture_default_str();
-  walk->add_option("--planarity", o.pc.planarity,
-                   "Planarity test: stencil (paper: Δ² stencils reach across region borders) or "
-                   "region-local (second differences only inside the region; no one-pixel strips "
-                   "along edges)")
-      ->check(CLI::IsMember({"stencil", "region-local"}))
-      ->capture_default_str();
-  walk->add_flag("--merge-strips,!--no-merge-strips", o.pc.mergeStrips,
-                 "Merge adjacent coplanar leaves (within max(tau/4, 4) z' units) into larger "
-                 "quads, or not")
-      ->capture_default_str();
-  walk->add_flag("--split-misfit,!--no-split-misfit", o.pc.splitMisfit,
-                 "Cut a leaf that passed the planarity test but whose least-squares plane "
-                 "misses its own pixels (by " +
-                     misfitToleranceText() +
-                     " z' units), or whose corners cross a crease; no mis-warped quads "
-                     "(docs/quad-validation.md), more quads")
-      ->capture_default_str();
-  walk->add_option("--tau-gradient", o.pc.tauGradient, tauGradientHelp())->capture_default_str();
-  walk->add_option("--compose", o.compose,
-                   "Composition: overlay (paper: nearer keyframe in front), depth-merge "
-                   "(per-pixel nearer of the two layers) or blend (where both layers see the same "
-                   "surface, a mean weighted toward the keyframe that sees it sharper: closer "
-                   "view direction, less magnified; else the nearer). depth-merge and blend use "
-                   "separate layers whatever --layers says")
-      ->check(CLI::IsMember({"overlay", "depth-merge", "blend"}))
-      ->capture_default_str();
-  walk->add_option("--blend-softness", o.blendSoftness,
-                   "With --compose blend: view penalty difference (radians, or relative "
-                   "magnification) over which the two weights change by a factor e")
-      ->check(CLI::Range(1e-4, 10.0))
-      ->capture_default_str();
-  walk->add_option("--fallback", o.fallback,
-                   "Pixels neither layer covers: copy (paper: the same pixel of the previous "
-                   "frame) or reproject (the previous frame warped to this camera with its "
-                   "depth; the same pixel only where that leaves nothing)")
-      ->check(CLI::IsMember({"copy", "reproject"}))
-      ->capture_default_str();
-  walk->add_flag("--render-holes,!--no-render-holes", o.renderHoles,
-                 "After the fallback, draw the larger holes with the geometry renderer: the "
-                 "16x16-pixel tiles holding at least 8 hole pixels, as up to 12 tight rectangles "
-                 "(the most holes first; scissored, the scene's clusters culled to each); "
-                 "isolated cracks keep the fallback's pixels")
-      ->capture_default_str();
-  walk->add_option("--render-holes-budget", o.renderHolesBudget,
-                   "With --render-holes and --mode auto: the hole pass may take up to this "
-                   "fraction of a geometry frame's time (measured in this run); rectangles are "
-                   "drawn, most holes first, while their estimated cost fits it and keeps the "
-                   "frame below one geometry frame. 0 = no cap; --mode hybrid draws every "
-                   "rectangle (frames independent of timings)")
-      ->check(CLI::Range(0.0, 100.0))
-      ->capture_default_str();
-  walk->add_option("--texcoords", o.texcoords,
-                   "Warp texture mapping: projective (exact for planar quads) or affine "
-                   "(plain perspective-correct s,t; for comparison)")
-      ->check(CLI::IsMember({"projective", "affine"}))
-      ->capture_default_str();
-  walk->add_flag("--no-sky-backdrop", o.noSky,
-                 "Do not draw empty keyframe pixels (sky) as a backdrop at infinity; they then "
-                 "count as holes, as in the paper");
-  walk->add_option("--layers", o.layers,
-                   "How the two warped layers are composed (overlay rule): fused (one render "
-                   "target, background drawn only where the foreground left pixels empty, one "
-                   "readback) or separate (the paper's two layers read back and composed on the "
-                   "CPU). Depth-merge always uses separate")
-      ->check(CLI::IsMember({"fused", "separate"}))
-      ->capture_default_str();
-  walk->add_flag("--no-skip-background", o.noSkipBg,
-                 "Draw the background layer even when the foreground covers every pixel "
-                 "(default: a coverage test skips it; the frame is identical)");
-  walk->add_flag("--no-skip-previous", o.noSkipPrev,
-                 "Run the previous-frame fill even when the layers leave no holes");
-  walk->add_option("--near", o.nearDistance,
-                   "Draw objects near the viewpoint directly (paper §3): scene clusters (a few "
-                   "hundred triangles each) within this distance (scene units, e.g. metres) of a "
-                   "keyframe's eye are left out of that keyframe, and each frame draws as "
-                   "geometry the clusters within it of its own eye or of the keyframes it warps; "
-                   "0 = off")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  walk->add_option("--subdivide", o.subdivide,
-                   "Cut large quads into cells at upload (paper §2.1): none, uniform (every quad, "
-                   "the paper's), adaptive (only quads whose corner depths differ by 1.5x or whose "
-                   "pixels leave their plane by > 0.2 %); interior cell corners follow the "
-                   "keyframe depth")
-      ->check(CLI::IsMember({"none", "uniform", "adaptive"}))
-      ->capture_default_str();
-  walk->add_option("--primitives", o.primitives,
-                   "How quads are drawn (same pixels, different vertex work): independent (6 "
-                   "vertices per quad), indexed (4 vertices + 6 indices), shared (indexed, corners "
-                   "identical between neighbouring quads stored once), points (indexed, 1x1 "
-                   "leaves as one GL point each, sized to their footprint; not pixel-identical)")
-      ->check(CLI::IsMember({"independent", "indexed", "shared", "points"}))
-      ->capture_default_str();
-  walk->add_flag("--cull-background", o.cullBg,
-                 "Leave out background quads whose surfaces the foreground keyframe sees (they "
-                 "mostly land under foreground pixels; lossy: cracks along edges then come from "
-                 "the previous frame). Needs --primitives indexed or shared");
-  walk->add_option("--subdivide-cell", o.subdivideCell, "Cell size for --subdivide, keyframe pixels")
-      ->check(CLI::Range(2, 4096))
-      ->capture_default_str();
-  walk->add_flag("--no-reference", o.noRef,
-                 "Skip the geometry reference render (no PSNR/SSIM; faster)");
-  walk->add_flag("--save-frames", o.saveFrames, "Write every frame and hole mask as PNG");
-  walk->add_option("--strips", o.strips,
-                   "Number of reference|hybrid|diff×4|holes strips to write")
-      ->check(CLI::Range(0, 100))
-      ->capture_default_str();
+                   "departing from the paper is an error (--tau may vary)");
   walk->add_option("--out", o.walkOut, "Output directory")->capture_default_str();
   walk->add_flag("--quiet", o.quiet, "No progress line");
+  walk->add_flag_callback(
+      "--help-markdown",
+      [] {
+        std::fputs(walkOptionsMarkdown().c_str(), stdout);
+        throw CLI::Success();
+      },
+      "Print the option reference as Markdown (docs/walk-options.md) and exit");
   walk->add_option("--keyframes", o.walkKeyframes,
                    "Read keyframes and quad meshes from this database (written by 'hybridwalk bake' "
                    "with the same scene, path, --frames, --depth and LOD options) instead of rendering "
@@ -514,86 +331,14 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   addPlannerOptions(walk, o.walkPlan, o.walkPredictor, o.walkPlanBy, false);
-  walk->add_flag("--async-keyframes,!--sync-keyframes", o.pc.asyncKeyframes,
-                 "Render and mesh keyframes ahead of need on a worker thread with a second "
-                 "OSMesa context, or when first needed, in the frame that shows them (frames "
-                 "are identical; only their timing changes)")
-      ->capture_default_str();
-  walk->add_option("--keyframe-cache-mb", o.keyframeCacheMb,
-                   "Memory bound of the keyframe cache in MiB (colour + depth + quad mesh; the "
-                   "two keyframes of the current bracket are always kept)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  walk->add_option("--keyframe-prefetch", o.keyframePrefetch,
-                   "With --async-keyframes: keyframes past the current pair built ahead")
-      ->check(CLI::Range(0, 64))
-      ->capture_default_str();
-  walk->add_option("--keyframe-flush-triangles", o.keyframeFlushTriangles,
-                   "With --async-keyframes: the worker flushes its keyframe render after about "
-                   "this many triangles, so frames on the main context wait behind one piece of "
-                   "it on llvmpipe's shared rasteriser threads (0 = one flush)")
-      ->capture_default_str();
-  walk->add_option("--keyframe-pacing", o.keyframePacing,
-                   "With --async-keyframes: how the worker spreads a keyframe over the frames "
-                   "before its need: time (each frame allows budget-scale x last build ms / frames "
-                   "per keyframe of worker time, alongside the frame), slices (the same budget, "
-                   "run at the end of each frame while the frame waits: the two never share the "
-                   "CPUs; counted in the frame's time), steps (--keyframe-steps-per-frame steps "
-                   "per frame) or none (as fast as it can); lifted while a frame waits")
-      ->check(CLI::IsMember({"time", "slices", "steps", "none"}))
-      ->capture_default_str();
-  walk->add_option("--keyframe-budget-scale", o.keyframeBudgetScale,
-                   "With --keyframe-pacing time or slices: the worker's time per frame as a multiple of its "
-                   "even share (> 1 lets it get ahead)")
-      ->check(CLI::Range(1.0, 100.0))
-      ->capture_default_str();
-  walk->add_option("--keyframe-steps-per-frame", o.keyframeStepsPerFrame,
-                   "With --keyframe-pacing steps: worker steps (a flushed piece of the render, the "
-                   "readback, a mesh-build step) per frame")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  walk->add_option("--keyframe-worker-nice", o.keyframeWorkerNice,
-                   "With --async-keyframes: nice increment of the worker thread (0-19)")
-      ->check(CLI::Range(0, 19))
-      ->capture_default_str();
-  addFrameBudgetOptions(walk, o.fb,
-                        "with time left after an in-between frame is composed, the region of "
-                        "pixels carried over from earlier frames longest is re-rendered by the "
-                        "geometry renderer if its estimated cost fits, and frames are presented "
-                        "every this many ms");
-  walk->add_option("--stale-after", o.staleAfter,
-                   "With --frame-budget-ms: frames a pixel must have been carried over from the "
-                   "previous frame before it counts for a refresh (at least 1)")
-      ->check(wholeFrames(1, 255, "stale after"))
-      ->capture_default_str();
-  walk->add_flag("--no-frame-pacing", o.noFramePacing,
-                 "With --frame-budget-ms: refresh within the budget but do not wait for it to "
-                 "pass before the next frame");
-  walk->add_flag("--pixel-age", o.pixelAge,
-                 "Track and report per-pixel age (frames carried over from the previous frame) "
-                 "without a budget (always on with --frame-budget-ms); frames are identical");
-
-  setGroups(walk, {{"Essentials", {"--help", "--scene", "--path", "--out", "--save-frames", "--width",
-                                   "--height", "--frames", "--strips", "--quiet", "--no-reference",
-                                   "--preset", "--mode"}},
-                   {"Level of detail", {"--tau", "--tau-px", "--criterion", "--planarity",
-                                        "--merge-strips", "--no-merge-strips", "--split-misfit", "--no-split-misfit", "--tau-gradient", "--depth", "--subdivide",
-                                        "--subdivide-cell", "--primitives"}},
-                   {"Composition", {"--compose", "--blend-softness", "--fallback", "--render-holes", "--no-render-holes", "--render-holes-budget", "--layers", "--near", "--texcoords",
-                                    "--no-sky-backdrop", "--no-skip-background",
-                                    "--no-skip-previous", "--cull-background"}},
-                   {"Keyframes", {"--keyframes", "--schedule", "--target-psnr", "--async-keyframes",
-                                  "--sync-keyframes",
-                                  "--keyframe-cache-mb", "--keyframe-prefetch", "--keyframe-pacing",
-                                  "--keyframe-budget-scale"}},
-                   {"Timing", {"--frame-budget-ms", "--frame-budget-quantile",
-                               "--frame-budget-window", "--stale-after", "--no-frame-pacing",
-                               "--pixel-age"}},
+  setGroups(walk, {{"Essentials", {"--help", "--help-markdown", "--scene", "--path", "--out", "--width", "--height",
+                                   "--frames", "--quiet"}},
+                   {"Level of detail", {"--depth"}},
+                   {"Keyframes", {"--keyframes", "--keyframe-every", "--schedule", "--target-psnr"}},
                    {"Studies", {"--calibrate-spacing", "--plan-uncertainty", "--calibration-window",
                                 "--verify-rounds", "--verify-optimism", "--plan-by", "--min-gap",
                                 "--max-gap", "--probe-size", "--candidate-stride",
-                                "--frames-per-segment", "--predictor", "--keyframe-flush-triangles",
-                                "--keyframe-steps-per-frame", "--keyframe-worker-nice"}}});
+                                "--frames-per-segment", "--predictor"}}});
   commands.push_back({walk, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }
 

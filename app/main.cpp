@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/cli_common.h"
 #include "app/option_checks.h"
@@ -21,8 +22,12 @@ bool knownCommand(const CLI::App& parent, int argc, char** argv, int argi) {
     if (sub->get_name() == argv[argi]) return true;
     names += (names.empty() ? "" : ", ") + sub->get_name();
   }
-  std::fprintf(stderr, "hybridwalk: error: unknown command '%s' (expected one of: %s; see --help)\n",
-               argv[argi], names.c_str());
+  std::vector<std::string> known;
+  for (const CLI::App* sub : parent.get_subcommands({})) known.push_back(sub->get_name());
+  const std::string near = hw::app::closestName(argv[argi], known);
+  std::fprintf(stderr, "hybridwalk: error: unknown command '%s'%s (expected one of: %s; see --help)\n",
+               argv[argi], near.empty() ? "" : ("; did you mean " + near + "?").c_str(),
+               names.c_str());
   return false;
 }
 
@@ -65,8 +70,7 @@ int runMain(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kExitUsage;
+    return reportParseError(app, e);
   }
   if (const std::string err = checkParsedOptions(app); !err.empty()) {
     std::fprintf(stderr, "hybridwalk: error: %s\n", err.c_str());

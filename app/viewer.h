@@ -53,12 +53,14 @@ struct ViewerOptions {
   // keyframes keep the database's own.
   keyframe::LodOptions lod;
   // The larger holes both keyframes miss drawn by the geometry renderer
-  // (session/hole_pass.h), every rectangle found; false: the previous
-  // frame's pixels, as the paper.
+  // (session/hole_pass.h); false: the previous frame's pixels, as the paper.
   bool renderHoles = false;
-  // Auto mode: the hole pass's time cap as a fraction of a geometry frame
-  // (session::WalkOptions::renderHolesBudget); 0 = every rectangle.
+  // With mode Auto, the hole pass's time cap as a fraction of a geometry
+  // frame's time, as WalkOptions::renderHolesBudget (0 = every rectangle).
   double renderHolesBudget = 0;
+  // Frames between keyframes of the play/default path (its keyframe_every,
+  // which sets the keyframe spacing); 0 = the path's own (`view --keyframe-every`).
+  int keyframeEvery = 0;
   std::string playPath;           // camera path JSON file; empty: the default path
   bool play = false;              // start by playing the path (loops; any move stops it)
   int exitAfterFrames = 0;        // scripted exit after this many frames; 0 = until closed
@@ -109,11 +111,12 @@ struct ViewerOptions {
   // sooner (app/keyframe_pacing.h; lockstep keeps the first F); Steps
   // allows stepsPerFrame steps; None runs flat out. Slices run after each
   // frame is shown, counted in its time.
-  enum class KeyframePacing { None, Steps, Time, Slices };
-  KeyframePacing keyframePacing = KeyframePacing::Time;
-  double keyframeBudgetScale = 2.0;
-  int keyframeStepsPerFrame = 2;
-  std::size_t keyframeFlushTriangles = 8192;  // AsyncKeyframeOptions::flushEveryTriangles
+  using KeyframePacing = session::KeyframePacing;
+  KeyframePacing keyframePacing = session::WalkOptions{}.keyframePacing;
+  double keyframeBudgetScale = session::WalkOptions{}.keyframeBudgetScale;
+  int keyframeStepsPerFrame = session::WalkOptions{}.keyframeStepsPerFrame;
+  // AsyncKeyframeOptions::flushEveryTriangles
+  std::size_t keyframeFlushTriangles = session::WalkOptions{}.keyframeFlushTriangles;
   // Test hook: each worker keyframe is requested when the synchronous viewer
   // would render it and taken (waited for) in that frame, so keyframes and
   // frames are the synchronous viewer's (no early requests, fixed pacing).
@@ -125,8 +128,8 @@ struct ViewerOptions {
   // none until enough are known. Pacing only: no stale-pixel refresh.
   double frameBudgetMs = 0;
   bool frameBudgetAuto = false;
-  double frameBudgetQuantile = 0.9;
-  int frameBudgetWindow = 30;
+  double frameBudgetQuantile = session::WalkOptions{}.frameBudgetQuantile;
+  int frameBudgetWindow = session::WalkOptions{}.frameBudgetWindow;
   // Written at exit if set: one CSV row per frame (frame ms, how it was
   // drawn, keyframe events: rendered in the frame, read, taken from the
   // worker, requested, waited for), for median / p95 of the frame time.

@@ -46,15 +46,6 @@ std::string frameName(int i) {
   return buf;
 }
 
-const char* pacingName(WalkOptions::KeyframePacing p) {
-  switch (p) {
-    case WalkOptions::KeyframePacing::Time: return "time";
-    case WalkOptions::KeyframePacing::Slices: return "slices";
-    case WalkOptions::KeyframePacing::Steps: return "steps";
-    case WalkOptions::KeyframePacing::None: break;
-  }
-  return "none";
-}
 
 // One walk. The members are the state the frames share; each method is one
 // stage of the loop.
@@ -1130,7 +1121,7 @@ void WalkLoop::summariseTiming(json& s) const {
   s["keyframe_stall_ms_total"] = stallTotal;
   s["keyframe_flush_triangles"] = asyncKf_ ? json(opt_.keyframeFlushTriangles) : json(nullptr);
   s["keyframe_worker_nice"] = asyncKf_ ? json(opt_.keyframeWorkerNice) : json(nullptr);
-  s["keyframe_pacing"] = asyncKf_ ? json(pacingName(opt_.keyframePacing)) : json(nullptr);
+  s["keyframe_pacing"] = asyncKf_ ? json(keyframePacingName(opt_.keyframePacing)) : json(nullptr);
   s["keyframe_budget_scale"] = asyncKf_ && timed ? json(opt_.keyframeBudgetScale) : json(nullptr);
   s["keyframe_slice_ms"] = r.sliceMs.empty() ? json(nullptr) : seriesStats(r.sliceMs);
   s["keyframe_steps_per_frame"] = asyncKf_ && opt_.keyframePacing == P::Steps
@@ -1228,6 +1219,16 @@ void WalkLoop::summariseModes(json& s) const {
 }
 
 }  // namespace
+
+const char* keyframePacingName(KeyframePacing p) {
+  switch (p) {
+    case KeyframePacing::Time: return "time";
+    case KeyframePacing::Slices: return "slices";
+    case KeyframePacing::Steps: return "steps";
+    case KeyframePacing::None: break;
+  }
+  return "none";
+}
 
 Result<WalkResult> runWalk(const scenes::Scene& scene, const std::string& sceneLabel,
                            const scenes::CameraPath& path, const WalkOptions& options) {

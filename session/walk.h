@@ -25,6 +25,11 @@
 
 namespace hw::session {
 
+// How an async keyframe worker spreads a keyframe over the frames before its
+// need (WalkOptions::keyframePacing, the viewer's too).
+enum class KeyframePacing { None, Steps, Time, Slices };
+const char* keyframePacingName(KeyframePacing p);  // "none", "steps", "time", "slices"
+
 struct WalkOptions {
   // How frames are drawn: Hybrid (every frame warped or a keyframe, the
   // paper's), Geometry (no keyframes), or Auto: per keyframe segment, the one
@@ -85,7 +90,7 @@ struct WalkOptions {
   //  Slices: the Time budget, but the worker runs it at the end of each
   //        frame's work while the main thread waits (AsyncKeyframeOptions::
   //        slices), counted in the frame's time (ms "keyframe_slice").
-  enum class KeyframePacing { None, Steps, Time, Slices };
+  using KeyframePacing = session::KeyframePacing;
   KeyframePacing keyframePacing = KeyframePacing::Time;
   double keyframeBudgetScale = 2.0;
   int keyframeStepsPerFrame = 2;

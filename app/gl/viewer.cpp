@@ -424,6 +424,7 @@ Status Viewer::setUp() {
     auto p = scenes::loadCameraPath(opt_.playPath);
     if (!p) return p.error();
     path = std::move(*p);
+    if (opt_.keyframeEvery > 0) path.keyframeEvery = opt_.keyframeEvery;
   }
   if (opt_.play && path.keys.empty())
     return makeError("--play needs a camera path with at least one key");
