@@ -258,6 +258,7 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (auto st = db->checkSchedule(session::bakeKeyframeList(in->path, frames)); !st)
       return fail(st.error().message);
     db->setExpectation({[p = in->path](int f) { return p.cameraAt(f); }, wo.depthMode});
+    if (auto st = db->checkFiles(); !st) return fail(st.error().message);
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
@@ -631,7 +632,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                                 "--max-gap", "--probe-size", "--candidate-stride",
                                 "--frames-per-segment", "--predictor", "--keyframe-flush-triangles",
                                 "--keyframe-steps-per-frame", "--keyframe-worker-nice"}}});
-  commands.push_back({walk, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(walk);
+  commands.push_back({walk, [state](int argc, char** argv) {
+    return runInOutputDir(state->walk, state->walkOut, {"report.json"},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

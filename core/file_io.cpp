@@ -26,7 +26,6 @@ namespace hw {
 Status writeFileAtomic(const std::string& path, std::string_view bytes) {
   if (path.empty()) return makeError("cannot write an output to an empty path");
   HW_TRY(checkOutputPath(path));
-  removeStaleTemporariesOnce(std::filesystem::path(path).parent_path().string());
   TemporaryFile tmpFile(path + ".tmp-" + std::to_string(::getpid()));
   const std::string& tmp = tmpFile.path();
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
