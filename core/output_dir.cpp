@@ -25,7 +25,7 @@ constexpr std::size_t kMaxMarkerBytes = 64 * 1024;
 
 std::string utcNow() {
   const std::time_t t = std::time(nullptr);
-  std::tm tm {};
+  std::tm tm{};
   ::gmtime_r(&t, &tm);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
@@ -156,17 +156,19 @@ Result<std::unique_ptr<OutputDir>> OutputDir::open(const std::string& dir,
     fd = ::open(marker.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd >= 0) break;
     if (errno == ELOOP)
-      return makeError(marker + " is a symbolic link: not a hybridwalk marker (remove it, or "
-                                "choose another output folder)");
+      return makeError(marker +
+                       " is a symbolic link: not a hybridwalk marker (remove it, or "
+                       "choose another output folder)");
     if (errno != ENOENT) return makeError("cannot open " + marker + ": " + std::strerror(errno));
     if (!force && !isEmptyDir(dir))
-      return makeError("output folder " + dir + " is not empty and was not made by hybridwalk (no " +
-                       kOwnerMarkerName +
+      return makeError("output folder " + dir +
+                       " is not empty and was not made by hybridwalk (no " + kOwnerMarkerName +
                        "): refusing to write into it, as that could replace files that are not "
                        "ours; choose a new or empty folder, or --force to write there anyway "
                        "(nothing was written)");
     fd = ::open(marker.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd >= 0) created = true;
+    if (fd >= 0)
+      created = true;
     else if (errno != EEXIST)
       return makeError("cannot create " + marker + ": " + std::strerror(errno));
   }
@@ -245,9 +247,8 @@ OutputDir::~OutputDir() {
   dirs.erase(std::remove(dirs.begin(), dirs.end(), this), dirs.end());
   provisional_.clear();  // uncommitted summaries go
   if ((leaveAsFound_ || !committed_) && fd_ >= 0 && !previousMarker_.empty()) {
-    if (::ftruncate(fd_, 0) == 0 &&
-        ::pwrite(fd_, previousMarker_.data(), previousMarker_.size(), 0) !=
-            static_cast<ssize_t>(previousMarker_.size()))
+    if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, previousMarker_.data(), previousMarker_.size(),
+                                             0) != static_cast<ssize_t>(previousMarker_.size()))
       std::fprintf(stderr, "hybridwalk: warning: cannot restore %s/%s\n", dir_.c_str(),
                    kOwnerMarkerName);
   }

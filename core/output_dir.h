@@ -38,8 +38,8 @@ class OutputDir {
   // by PID P (walk, started T)", --force does not override this); unless
   // `force`: a non-empty folder without a marker, a folder owned by another
   // command, a symlink. Anything else in the folder is never deleted.
-  static Result<std::unique_ptr<OutputDir>> open(const std::string& dir,
-                                                 const std::string& command, bool force);
+  static Result<std::unique_ptr<OutputDir>> open(const std::string& dir, const std::string& command,
+                                                 bool force);
   // Releases the lock. When the run wrote nothing (the folder holds only the
   // marker), the marker this run created goes, and the folder if it made it.
   ~OutputDir();
@@ -72,7 +72,7 @@ class OutputDir {
   OutputDir() = default;
   std::string dir_;
   int fd_ = -1;
-  bool createdDir_ = false;   // made by this run: removed at exit if it holds only the marker
+  bool createdDir_ = false;     // made by this run: removed at exit if it holds only the marker
   bool createdMarker_ = false;  // the folder had none: removed at exit if it is all there is
   OutputDirOwner previous_;
   std::string previousMarker_;  // its bytes
