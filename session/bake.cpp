@@ -124,7 +124,7 @@ Result<BakeStart> prepareBakeDir(const std::string& outDir,
   }
   if (!hasPlan)
     return makeError("--resume: " + plan + " not found and no index.json: there is no " +
-                     "interrupted bake in " + outDir + " (run without --resume)");
+                     "interrupted bake run in " + outDir + " (run without --resume)");
   return BakeStart::Resume;
 }
 

@@ -241,6 +241,9 @@ png(t + '/tiny_a.png', 5, 5)
 png(t + '/tiny_b.png', 5, 5)
 # Header says 12000x12000; only the header is read before the size is refused.
 png(t + '/huge.png', 12000, 12000, idat=zlib.compress(b'\0' * 1000))
+# Past stb_image's own limits (2^30 bytes decoded, 2^24 a side): named as sizes too.
+png(t + '/huge30k.png', 30000, 30000, idat=zlib.compress(b'\0' * 1000))
+png(t + '/huge64k.png', 65536, 65536, idat=zlib.compress(b'\0' * 1000))
 s = socket.socket(socket.AF_UNIX)
 s.bind(t + '/sock.png')
 s.close()
