@@ -138,6 +138,7 @@ int removeTemporariesOfRun(const std::string& dir, long pid) {
 Result<std::unique_ptr<OutputDir>> OutputDir::open(const std::string& dir,
                                                    const std::string& command, bool force) {
   if (dir.empty()) return makeError("output directory: expected a path, got an empty string");
+  HW_TRY(checkOutputPath(dir, "output directory"));  // a device, FIFO or socket (even via a link)
   struct stat lst {};
   const bool existed = ::lstat(dir.c_str(), &lst) == 0;
   if (existed && S_ISLNK(lst.st_mode) && !force) {
