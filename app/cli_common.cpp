@@ -331,6 +331,31 @@ void addGlOptions(CLI::App* c) {
       ->check(CLI::Range(0, 999));
 }
 
+void addForceOption(CLI::App* c) {
+  c->add_flag("--force")->description(
+      "Write into an output folder that is not empty and not hybridwalk's, belongs to "
+      "another command, or is a symlink (docs/output-folders.md); a folder in use by another "
+      "run is still refused");
+}
+
+Result<std::unique_ptr<OutputDir>> claimOutputDir(const CLI::App* c, const std::string& dir,
+                                                  const std::vector<std::string>& summaries) {
+  const CLI::Option* force = c->get_option_no_throw("--force");
+  auto out = OutputDir::open(dir, c->get_name(), force != nullptr && force->count() > 0);
+  if (out)
+    for (const auto& s : summaries) (*out)->provisional(s);
+  return out;
+}
+
+int runInOutputDir(const CLI::App* c, const std::string& dir,
+                   const std::vector<std::string>& summaries, const std::function<int()>& body) {
+  auto out = claimOutputDir(c, dir, summaries);
+  if (!out) return fail(out.error().message);
+  const int code = body();
+  if (code == 0) (*out)->commit();
+  return code;
+}
+
 void addCommon(CLI::App* c, Common& o) {
   addGlOptions(c);
   addScenePath(c, o);

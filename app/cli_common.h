@@ -12,6 +12,7 @@
 #include "bench/slurm.h"
 #include "core/depth.h"
 #include "core/gl/context.h"
+#include "core/output_dir.h"
 #include "core/result.h"
 #include "session/keyframe_planner.h"
 #include "session/presets.h"
@@ -123,6 +124,19 @@ void addScenePath(CLI::App* c, Common& o);
 // HYBRIDWALK_GL, else auto; docs/gpu.md). A --gl value outside the set is a
 // usage error (exit 2); a device out of range fails at context creation.
 void addGlOptions(CLI::App* c);
+// --force on `c` (docs/output-folders.md): write into an output folder that is
+// not empty and not hybridwalk's, owned by another command, or a symlink.
+void addForceOption(CLI::App* c);
+// Claims the output folder `dir` for the command `c` for the whole run
+// (core/output_dir.h), with --force if `c` has it and it was given.
+// `summaries`: files that describe the others (report.json), removed unless
+// the command calls commit() once everything is written (OutputDir::provisional).
+Result<std::unique_ptr<OutputDir>> claimOutputDir(const CLI::App* c, const std::string& dir,
+                                                  const std::vector<std::string>& summaries = {});
+// Runs `body` (a command) holding its output folder `dir` (claimOutputDir); the
+// summaries stay only when it returns 0.
+int runInOutputDir(const CLI::App* c, const std::string& dir,
+                   const std::vector<std::string>& summaries, const std::function<int()>& body);
 // The scene, its camera path (--path or the scene's default) and a headless
 // GL context; the cheap inputs are validated first.
 Result<Loaded> loadInputs(const Common& o);

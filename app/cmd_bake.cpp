@@ -49,7 +49,6 @@ using nlohmann::json;
 
 int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string& out, int perTask,
             bool quiet, DistributeCli& dist, int argc, char** argv) {
-  namespace fs = std::filesystem;
   if (out.empty()) return fail("bake: --out DIR is required (the keyframe database directory)");
   auto in = loadInputs(c);
   if (!in) return fail(in.error().message);
@@ -84,14 +83,14 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
   }
   if (dist.d.resume && !bench::distributed(dist.d))
     return fail("--resume: only with --slurm or --workers N > 1 (an in-process bake has no chunks to resume)");
-  if (auto st = ensureWritableDir(out); !st) return fail(st.error().message);
-  // A fresh bake replaces an earlier database: its index first (a directory
-  // without index.json is an incomplete database), then its keyframe files.
-  std::error_code ec;
-  fs::remove(out + "/index.json", ec);
-  if (!dist.d.resume)
-    for (const auto& f : fs::directory_iterator(out, ec))
-      if (f.path().extension() == ".hwkf") fs::remove(f.path(), ec);
+  auto start = session::prepareBakeDir(out, prov, in->path, keys, bo.depthMode, dist.d.resume);
+  if (!start) return fail(start.error().message);
+  if (*start == session::BakeStart::Complete) {
+    if (OutputDir* held = OutputDir::held(out)) held->leaveAsFound();
+    std::printf("bake: %s is complete (every keyframe of this bake, checked); nothing to do\n",
+                out.c_str());
+    return 0;
+  }
   std::vector<keyframe::KeyframeDbEntry> entries;
   Stopwatch sw;
   if (bench::distributed(dist.d)) {
@@ -167,7 +166,12 @@ void addBakeCommand(CLI::App& app, Commands& commands) {
   bakeCmd->add_flag("--quiet", o.bakeQuiet, "No progress line");
   addDistribute(bakeCmd, o.bakeDist, "--keyframes-per-task keyframes");
 
-  commands.push_back({bakeCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(bakeCmd);
+  commands.push_back({bakeCmd, [state](int argc, char** argv) {
+    if (state->bakeDist.chunk >= 0) return run(*state, argc, argv);  // in the parent's folder
+    return runInOutputDir(state->bakeCmd, state->bakeOut, {},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

@@ -255,7 +255,11 @@ void addCheckQuadsCommand(CLI::App& app, Commands& commands) {
                                   "--width", "--height", "--quiet"}},
                   {"Level of detail", {"--split-misfit", "--misfit-tolerance", "--depth"}},
                   {"Validation", {"--tolerance-px", "--min-bad-pixels"}}});
-  commands.push_back({cmd, [state](int, char**) { return run(*state); }});
+  addForceOption(cmd);
+  commands.push_back({cmd, [state](int, char**) {
+    return runInOutputDir(state->cmd, state->out, {"report.json"},
+                          [&] { return run(*state); });
+  }});
 }
 
 }  // namespace hw::app

@@ -87,7 +87,11 @@ void addExportCommand(CLI::App& app, Commands& commands) {
   exportCmd->add_option("--out", o.exportOut, "Output directory")->capture_default_str();
   exportCmd->add_flag("--quiet", o.exportQuiet, "No progress line");
 
-  commands.push_back({exportCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(exportCmd);
+  commands.push_back({exportCmd, [state](int argc, char** argv) {
+    return runInOutputDir(state->exportCmd, state->exportOut, {"cameras.json"},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

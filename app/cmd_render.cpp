@@ -134,7 +134,11 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
   render->add_option("--out", o.renderOut, "Output directory")->capture_default_str();
   render->add_flag("--quiet", o.renderQuiet, "No progress line");
 
-  commands.push_back({render, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(render);
+  commands.push_back({render, [state](int argc, char** argv) {
+    return runInOutputDir(state->render, state->renderOut, {"render.json"},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

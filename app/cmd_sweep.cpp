@@ -176,7 +176,12 @@ void addSweepCommand(CLI::App& app, Commands& commands) {
       ->capture_default_str();
   addDistribute(sweep, o.sweepDist, "--cells-per-task cells");
 
-  commands.push_back({sweep, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(sweep);
+  commands.push_back({sweep, [state](int argc, char** argv) {
+    if (state->sweepDist.chunk >= 0) return run(*state, argc, argv);  // in the parent's folder
+    return runInOutputDir(state->sweep, state->sweepOut, {"sweep.json"},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

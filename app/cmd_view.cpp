@@ -138,6 +138,7 @@ int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
           !st)
         return fail(st.error().message);
       db->setExpectation({[p = *played](int f) { return p.cameraAt(f); }, std::nullopt});
+      if (auto st = db->checkFiles(); !st) return fail(st.error().message);
       o.vo.keyframeDb = std::make_shared<keyframe::KeyframeDb>(std::move(*db));
     }
     return app::runViewer(*s, *p, o.vo);

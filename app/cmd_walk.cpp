@@ -203,6 +203,7 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (auto st = db->checkSchedule(session::bakeKeyframeList(in->path, frames)); !st)
       return fail(st.error().message);
     db->setExpectation({[p = in->path](int f) { return p.cameraAt(f); }, wo.depthMode});
+    if (auto st = db->checkFiles(); !st) return fail(st.error().message);
     wo.keyframeFrames = db->keyframeFrames();
     wo.keyframeSource = keyframe::makeKeyframeDbSource(std::make_shared<keyframe::KeyframeDb>(std::move(*db)));
   }
@@ -339,7 +340,11 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                                 "--verify-rounds", "--verify-optimism", "--plan-by", "--min-gap",
                                 "--max-gap", "--probe-size", "--candidate-stride",
                                 "--frames-per-segment", "--predictor"}}});
-  commands.push_back({walk, [state](int argc, char** argv) { return run(*state, argc, argv); }});
+  addForceOption(walk);
+  commands.push_back({walk, [state](int argc, char** argv) {
+    return runInOutputDir(state->walk, state->walkOut, {"report.json"},
+                          [&] { return run(*state, argc, argv); });
+  }});
 }
 
 }  // namespace hw::app

@@ -555,7 +555,6 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
     for (std::size_t i = 0; i < cells.size(); ++i) csv += cells[i] + (i + 1 < cells.size() ? "," : "\n");
   }
   HW_TRY(writeFileAtomic(opt.outDir + "/sweep.csv", csv));
-  HW_TRY(writeFileAtomic(opt.outDir + "/sweep.json", doc.dump(1)));
 
   HtmlReport page("hybridwalk sweep: " + sceneLabel);
   page.paragraph("Scene " + sceneLabel + " (" + std::to_string(scene.triangleCount()) +
@@ -585,6 +584,8 @@ Result<json> finishSweep(const scenes::Scene& scene, const std::string& sceneLab
   }
   page.images(srcs, caps, 384);
   HW_TRY(page.write(opt.outDir + "/index.html"));
+  // Last: a sweep.json is there only when everything it describes is.
+  HW_TRY(writeFileAtomic(opt.outDir + "/sweep.json", doc.dump(1)));
   return doc;
 }
 

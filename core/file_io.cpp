@@ -26,7 +26,6 @@ namespace hw {
 Status writeFileAtomic(const std::string& path, std::string_view bytes) {
   if (path.empty()) return makeError("cannot write an output to an empty path");
   HW_TRY(checkOutputPath(path));
-  removeStaleTemporariesOnce(std::filesystem::path(path).parent_path().string());
   TemporaryFile tmpFile(path + ".tmp-" + std::to_string(::getpid()));
   const std::string& tmp = tmpFile.path();
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
@@ -121,6 +120,23 @@ bool dropEmptyPngIdat(const stbi_uc* bytes, std::size_t size, std::string* out) 
   return true;
 }
 
+// Width and height from a PNG's IHDR chunk. stb_image refuses an image over
+// 2^24 a side or 2^30 bytes decoded as "not of any known type, or corrupt";
+// the header says what it is, so a size can be refused as a size.
+bool pngHeaderSize(const stbi_uc* b, std::size_t n, int* w, int* h) {
+  static const stbi_uc kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (n < 24 || std::memcmp(b, kSig, 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0) return false;
+  auto be32 = [&](std::size_t at) {
+    return (std::uint32_t(b[at]) << 24) | (std::uint32_t(b[at + 1]) << 16) |
+           (std::uint32_t(b[at + 2]) << 8) | std::uint32_t(b[at + 3]);
+  };
+  const std::uint32_t pw = be32(16), ph = be32(20);
+  if (pw == 0 || ph == 0 || pw > INT32_MAX || ph > INT32_MAX) return false;
+  *w = static_cast<int>(pw);
+  *h = static_cast<int>(ph);
+  return true;
+}
+
 }  // namespace
 
 Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits) {
@@ -135,7 +151,8 @@ Result<Image<Rgba8>> readPng(const std::string& path, const ImageLimits& limits)
     bytes->swap(withoutEmptyIdat);
   // Header first: the decoded size is checked before anything is allocated.
   if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
-                             static_cast<int>(bytes->size()), &w, &h, &comp))
+                             static_cast<int>(bytes->size()), &w, &h, &comp) &&
+      !pngHeaderSize(reinterpret_cast<const stbi_uc*>(bytes->data()), bytes->size(), &w, &h))
     return makeError("cannot decode image " + path + ": " + stbi_failure_reason());
   if (w < limits.minSide || h < limits.minSide || w > limits.maxSide || h > limits.maxSide ||
       static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > limits.maxPixels)
@@ -174,7 +191,8 @@ Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const st
     size = withoutEmptyIdat.size();
   }
   int w = 0, h = 0, comp = 0;
-  if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp))
+  if (!stbi_info_from_memory(b, static_cast<int>(size), &w, &h, &comp) &&
+      !pngHeaderSize(b, size, &w, &h))
     return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
   const std::uint64_t budgetSide =
       static_cast<std::uint64_t>(std::max(gMinDecodeBudgetSide, gMaxTextureSize));

@@ -11,8 +11,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <mutex>
-#include <set>
 
 namespace hw {
 
@@ -226,61 +224,6 @@ void dieWithParentIfWorker() {
 
 void markChildrenAsWorkers() {
   ::setenv("HW_WORKER_PARENT_PID", std::to_string(::getpid()).c_str(), 1);
-}
-
-namespace {
-
-// PID of a temporary's name `....tmp-PID`, or -1.
-long temporaryPid(const char* name) {
-  const char* tag = std::strstr(name, ".tmp-");
-  if (!tag) return -1;
-  for (const char* next; (next = std::strstr(tag + 1, ".tmp-")) != nullptr;) tag = next;
-  const char* digits = tag + 5;
-  if (*digits == '\0' || tag == name) return -1;
-  long pid = 0;
-  for (const char* c = digits; *c; ++c) {
-    if (*c < '0' || *c > '9') return -1;
-    pid = pid * 10 + (*c - '0');
-    if (pid > (1L << 30)) return -1;  // pid_max is at most 2^22
-  }
-  return pid > 0 ? pid : -1;
-}
-
-}  // namespace
-
-int removeStaleTemporaries(const std::string& dir) {
-  DIR* d = ::opendir(dir.empty() ? "." : dir.c_str());
-  if (!d) return 0;
-  int removed = 0;
-  const long self = static_cast<long>(::getpid());
-  while (const dirent* e = ::readdir(d)) {
-    const long pid = temporaryPid(e->d_name);
-    if (pid < 0 || pid == self) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
-    const std::string path = (dir.empty() ? std::string(".") : dir) + "/" + e->d_name;
-    struct stat st {};
-    if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::getuid())
-      continue;
-    if (::unlink(path.c_str()) == 0) {
-      ++removed;
-      std::fprintf(stderr,
-                   "hybridwalk: note: removed %s, a temporary left by process %ld, which is "
-                   "gone (killed before it could clean up)\n",
-                   path.c_str(), pid);
-    }
-  }
-  ::closedir(d);
-  return removed;
-}
-
-void removeStaleTemporariesOnce(const std::string& dir) {
-  static std::mutex mutex;
-  static std::set<std::string> done;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (!done.insert(dir).second) return;
-  }
-  removeStaleTemporaries(dir);
 }
 
 std::FILE* openScratchFile(const std::string& dir, const std::string& name,

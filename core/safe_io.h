@@ -55,21 +55,10 @@ class TemporaryFile {
   int slot_ = -1;
 };
 
-// Temporaries of a process killed by SIGKILL (or a power cut) stay behind:
-// `NAME.tmp-PID` from writeFileAtomic, `.report-frames.tmp-PID` and
-// `.series.tmp-PID` where O_TMPFILE is missing. Removes, in `dir` only (not
-// below it), the regular files owned by this user whose name ends in
-// `.tmp-PID` (PID: decimal digits only) and whose PID is not a running
-// process (kill(PID, 0) fails with ESRCH); a note on stderr names each.
-// Anything else, a live PID's file, a symlink, another user's file, is kept.
-// A PID reused by an unrelated process keeps its stale file until it exits;
-// a directory shared with a process in another PID namespace (a container)
-// would see that process as gone: such a set-up should not share outputs.
-// Returns how many were removed.
-int removeStaleTemporaries(const std::string& dir);
-// removeStaleTemporaries(dir) the first time this process calls it for `dir`
-// (writeFileAtomic calls it for every output's directory).
-void removeStaleTemporariesOnce(const std::string& dir);
+// Temporaries of a process killed by SIGKILL (or a power cut) stay behind as
+// `NAME.tmp-PID` (writeFileAtomic), `.report-frames.tmp-PID` and
+// `.series.tmp-PID` (where O_TMPFILE is missing); the next run that claims the
+// folder removes those of the PID its marker recorded (core/output_dir.h).
 
 // Removes every registered temporary file; returns how many were removed.
 int removeRegisteredTemporaries();

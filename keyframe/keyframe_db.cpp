@@ -1,6 +1,11 @@
 #include "keyframe/keyframe_db.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <bit>
 #include <cmath>
 #include <condition_variable>
@@ -640,6 +645,64 @@ Status KeyframeDb::checkMatches(const KeyframeDbProvenance& want,
         if (!value.contains(sub)) return mismatch(key + "." + sub, &hv, nullptr);
     }
     if (!h || *h != value) return mismatch(key, h, value);
+  }
+  return {};
+}
+
+Status KeyframeDb::checkFiles() const {
+  constexpr std::size_t kPrefix = kKeyframeHeaderBytes + kCameraBytes;
+  for (const auto& e : entries_) {
+    const std::string path = dir_ + "/" + e.file;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) return makeError("cannot open " + path + ": " + std::strerror(errno));
+    struct stat st {};
+    std::string bytes(kPrefix, '\0');
+    ssize_t got = -1;
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) got = ::pread(fd, bytes.data(), kPrefix, 0);
+    ::close(fd);
+    if (!S_ISREG(st.st_mode))
+      return makeError(path + ": expected a regular keyframe file, found " +
+                       fileKindName(st.st_mode));
+    if (static_cast<std::uint64_t>(st.st_size) != e.bytes)
+      return sizeMismatch(path, e.bytes, static_cast<std::uint64_t>(st.st_size));
+    bytes.resize(got > 0 ? static_cast<std::size_t>(got) : 0);
+    auto h = parseHeader(bytes, path);
+    if (!h) return h.error();
+    if (h->frame != e.frame)
+      return makeError(path + ": holds frame " + std::to_string(h->frame) + ", index.json says " +
+                       std::to_string(e.frame));
+    if (kKeyframeHeaderBytes + h->payloadBytes != e.bytes)
+      return makeError(path + ": header says " +
+                       std::to_string(kKeyframeHeaderBytes + h->payloadBytes) +
+                       " bytes, index.json and the file " + std::to_string(e.bytes));
+    if (h->payloadChecksum != e.checksum)
+      return makeError(path + ": checksum " + hex64(h->payloadChecksum) +
+                       " differs from index.json's " + hex64(e.checksum) +
+                       " (file replaced after the bake)");
+    if (bytes.size() < kPrefix)
+      return makeError(path + ": truncated: no camera after the header");
+    Reader r(std::string_view(bytes).substr(kKeyframeHeaderBytes));
+    CachedKeyframe kf;
+    Camera& c = kf.keyframe.camera;
+    c.eye = getVec(r);
+    c.right = getVec(r);
+    c.up = getVec(r);
+    c.forward = getVec(r);
+    c.fovYRadians = r.get<double>();
+    c.width = r.get<std::int32_t>();
+    c.height = r.get<std::int32_t>();
+    c.nearPlane = r.get<double>();
+    c.farPlane = r.get<double>();
+    const auto dm = r.get<std::uint32_t>();
+    if (c.width != h->width || c.height != h->height)
+      return makeError(path + ": camera is " + std::to_string(c.width) + "x" +
+                       std::to_string(c.height) + ", header says " + std::to_string(h->width) +
+                       "x" + std::to_string(h->height));
+    if (dm > std::uint32_t(DepthMode::Float32Reversed))
+      return makeError(path + ": depth mode " + std::to_string(dm) + ", expected 0..2");
+    kf.keyframe.depthMode = static_cast<DepthMode>(dm);
+    kf.frame = h->frame;
+    if (expect_) HW_TRY(checkKeyframeExpectation(kf, *expect_, path));
   }
   return {};
 }

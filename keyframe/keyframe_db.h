@@ -112,6 +112,14 @@ class KeyframeDb {
   // Error unless the database holds keyframes for exactly `frames` (the walk's
   // schedule), naming the first frame missing or extra.
   Status checkSchedule(const std::vector<int>& frames) const;
+  // The whole database against index.json and the expectation (if set), before
+  // the first frame and whatever the walk's mode: every keyframe file's header
+  // (magic, version, header checksum, frame, size) and its camera block are
+  // read, not the payload: the file's size and payload checksum must be
+  // index.json's, the camera and depth mode the walk's. Error naming the first
+  // file that differs. (A payload damaged under an intact header is caught
+  // when that keyframe is read.)
+  Status checkFiles() const;
   // Every keyframe read from now on is checked against `want`.
   void setExpectation(KeyframeExpectation want) {
     expect_ = std::make_shared<const KeyframeExpectation>(std::move(want));

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/progress.h"
+#include "core/json_guard.h"
 #include "core/file_io.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
@@ -68,6 +69,63 @@ Result<std::vector<keyframe::KeyframeDbEntry>> bakeKeyframes(const scenes::Scene
     progress.update(static_cast<int>(i + 1));
   }
   return entries;
+}
+
+Result<BakeStart> prepareBakeDir(const std::string& outDir,
+                                 const keyframe::KeyframeDbProvenance& provenance,
+                                 const scenes::CameraPath& path, const std::vector<int>& keyframes,
+                                 DepthMode depthMode, bool resume) {
+  namespace fs = std::filesystem;
+  const std::string index = outDir + "/index.json";
+  const std::string plan = outDir + "/.chunks/plan.json";
+  std::error_code ec;
+  const bool hasIndex = fs::exists(fs::symlink_status(index, ec));
+  const bool hasPlan = fs::exists(plan, ec);
+  if (!resume) {
+    // The earlier database: its index first (a folder without index.json is
+    // an incomplete database), then the keyframe files that index names.
+    std::vector<std::string> files;
+    if (hasIndex) {
+      if (auto text = readFile(index, 256ull << 20)) {
+        auto j = nlohmann::json::parse(*text, nullptr, false);
+        if (j.is_object() && j.contains("keyframes"))
+          if (auto es = keyframe::parseKeyframeEntries(j["keyframes"], index))
+            for (const auto& e : *es) files.push_back(e.file);
+      }
+      if (!fs::remove(index, ec) && ec)
+        return makeError("cannot remove " + index + ": " + ec.message());
+    }
+    for (const auto& f : files) fs::remove(outDir + "/" + f, ec);
+    return BakeStart::Fresh;
+  }
+  if (hasIndex) {
+    Status usable = [&]() -> Status {
+      auto db = keyframe::KeyframeDb::open(outDir);
+      if (!db) return db.error();
+      if (auto st = db->checkMatches(provenance); !st)
+        return makeError("--resume: " + outDir + " holds the database of another bake: " +
+                         st.error().message + "; run without --resume to replace it");
+      if (auto st = db->checkSchedule(keyframes); !st)
+        return makeError("--resume: " + outDir + " holds the database of another bake: " +
+                         st.error().message + "; run without --resume to replace it");
+      db->setExpectation({[&path](int f) { return path.cameraAt(f); }, depthMode});
+      return db->checkFiles();
+    }();
+    if (usable) return BakeStart::Complete;
+    const std::string& why = usable.error().message;
+    if (why.rfind("--resume: ", 0) == 0) return usable.error();  // another bake: left as it is
+    if (!hasPlan)
+      return makeError("--resume: " + outDir + " holds a damaged database (" + why +
+                       ") and no interrupted bake to resume (no " + plan +
+                       "); run without --resume to bake it again");
+    // A damaged index over an interrupted run: the chunks rewrite it.
+    fs::remove(index, ec);
+    return BakeStart::Resume;
+  }
+  if (!hasPlan)
+    return makeError("--resume: " + plan + " not found and no index.json: there is no " +
+                     "interrupted bake run in " + outDir + " (run without --resume)");
+  return BakeStart::Resume;
 }
 
 Status writeBakeIndex(const std::string& outDir, const keyframe::KeyframeDbProvenance& provenance,

@@ -37,6 +37,26 @@ Result<std::vector<keyframe::KeyframeDbEntry>> bakeKeyframes(const scenes::Scene
                                                              const scenes::CameraPath& path,
                                                              const std::vector<int>& keyframes,
                                                              const BakeOptions& options);
+// What a bake does in its output folder (held by this run, core/output_dir.h).
+enum class BakeStart {
+  Fresh,     // bake every keyframe
+  Resume,    // rerun the chunks an interrupted run left (bench/slurm.h)
+  Complete,  // --resume on a finished database of this very bake: nothing to do
+};
+// Without `resume`: removes the earlier database the folder's index.json lists
+// (index.json first, then the keyframe files it names; nothing else) and
+// returns Fresh. With `resume`: Complete, touching nothing, when index.json
+// holds this bake (provenance, keyframe schedule, every file's header and
+// camera: KeyframeDb::checkFiles); an error naming the difference when it
+// holds another bake; Resume when there is no usable index but an interrupted
+// run's chunk plan (whose command is checked when the chunks run); otherwise
+// an error saying there is nothing to resume. Never removes a valid database
+// under --resume.
+Result<BakeStart> prepareBakeDir(const std::string& outDir,
+                                 const keyframe::KeyframeDbProvenance& provenance,
+                                 const scenes::CameraPath& path, const std::vector<int>& keyframes,
+                                 DepthMode depthMode, bool resume);
+
 // Checks the files of `entries` are present with their sizes and writes
 // index.json (last, atomically: a database without index.json is incomplete).
 Status writeBakeIndex(const std::string& outDir, const keyframe::KeyframeDbProvenance& provenance,

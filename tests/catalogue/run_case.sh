@@ -10,7 +10,12 @@
 #   - the output dir {out} is left clean: for `empty` rows it does not exist
 #     or holds nothing (not even an empty folder); for `no-partial` rows (the
 #     failure comes after work started) it holds no *.tmp-* file and no
-#     report.json/render.json that would make a partial run look complete.
+#     report.json/render.json that would make a partial run look complete;
+#     for `untouched` rows it is byte for byte what the setup left (names,
+#     kinds, sizes, contents: the refused run changed nothing).
+# Setups: `-`; `tmpfs:SIZE` / `tmpfs-ro` mounted at {out}; `foreign` ({out}
+# holds a user's files: thesis.tmp-999999, notes.txt); `pre:CMD` (CMD, with
+# the placeholders, run from the fixture dir first; it must exit 0).
 # Usage: run_case.sh ID HYBRIDWALK SOURCE_DIR     (ID `all` runs every row)
 set -u
 id=${1:?usage: run_case.sh ID HYBRIDWALK SOURCE_DIR}
@@ -42,7 +47,7 @@ IFS=$'\t' read -r _ want_exit clean setup description command regex <<<"$row"
 # Rows that need a tiny or read-only filesystem at {out} mount a tmpfs there.
 # Root can do that directly; anyone else gets a private mount namespace in
 # which they are root (unshare -rm), so the mount never leaks out.
-if [ "$setup" != - ] && [ "$(id -u)" != 0 ] && [ -z "${HW_CATALOGUE_USERNS:-}" ]; then
+if [[ $setup == tmpfs* ]] && [ "$(id -u)" != 0 ] && [ -z "${HW_CATALOGUE_USERNS:-}" ]; then
   if unshare --map-root-user --mount true 2>/dev/null; then
     HW_CATALOGUE_USERNS=1 exec unshare --map-root-user --mount bash "${BASH_SOURCE[0]}" "$@"
   fi
@@ -236,6 +241,9 @@ png(t + '/tiny_a.png', 5, 5)
 png(t + '/tiny_b.png', 5, 5)
 # Header says 12000x12000; only the header is read before the size is refused.
 png(t + '/huge.png', 12000, 12000, idat=zlib.compress(b'\0' * 1000))
+# Past stb_image's own limits (2^30 bytes decoded, 2^24 a side): named as sizes too.
+png(t + '/huge30k.png', 30000, 30000, idat=zlib.compress(b'\0' * 1000))
+png(t + '/huge64k.png', 65536, 65536, idat=zlib.compress(b'\0' * 1000))
 s = socket.socket(socket.AF_UNIX)
 s.bind(t + '/sock.png')
 s.close()
@@ -333,8 +341,25 @@ case $setup in
     { echo "FAIL $id: cannot mount a ${setup#tmpfs:} tmpfs at $out"; exit 1; } ;;
   tmpfs-ro) mkdir "$out" && mount -t tmpfs -o ro,size=64k hwcat "$out" ||
     { echo "FAIL $id: cannot mount a read-only tmpfs at $out"; exit 1; } ;;
+  foreign) mkdir "$out" && echo data >"$out/thesis.tmp-999999" && echo notes >"$out/notes.txt" ;;
+  pre:*)
+    pre=${setup#pre:}
+    pre=${pre//\{hw\}/$hw}
+    pre=${pre//\{tmp\}/$tmp}
+    pre=${pre//\{out\}/$out}
+    (cd "$tmp" && env -u HW_GL_FAIL timeout -k 10 "$timeout_s" bash -c "$pre") \
+      >"$tmp/pre.log" 2>&1 </dev/null ||
+      { echo "FAIL $id: setup failed: $pre"; sed 's/^/  /' "$tmp/pre.log" | tail -5; exit 1; } ;;
   *) echo "FAIL $id: unknown setup '$setup'"; exit 1 ;;
 esac
+
+# What {out} holds: every entry's path, kind, size and content hash.
+snapshot() {
+  [ -e "$out" ] || { echo absent; return; }
+  (cd "$out" && find . -printf '%p %y %s\n' | sort && find . -type f -print0 | sort -z |
+    xargs -0r sha1sum)
+}
+before=$(snapshot)
 
 # ------------------------------------------------------------------- run ----
 command=${command//\{hw\}/$hw}
@@ -369,6 +394,8 @@ case $clean in
   empty) [ -e "$out" ] && leftover=$(cd "$out" && find . -mindepth 1 | sort) ;;
   no-partial) [ -e "$out" ] && leftover=$(cd "$out" && find . \( -name '*.tmp-*' -o \
     -name report.json -o -name render.json \) | sort) ;;
+  untouched) [ "$(snapshot)" = "$before" ] ||
+    leftover="changed: $(diff <(echo "$before") <(snapshot) | grep '^[<>]' | head -5)" ;;
   *) problem "unknown clean policy '$clean'" ;;
 esac
 [ -n "$leftover" ] && problem "left in the output dir ($clean): $(echo $leftover)"

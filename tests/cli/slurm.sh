@@ -51,7 +51,7 @@ PY
   done
   [ -s "$2/index.html" ] && [ -s "$2/pareto.png" ] && [ ! -e "$2/.chunks" ]
 }
-same_db() { diff -r "$1" "$2" >/dev/null && [ ! -e "$2/.chunks" ] && [ -s "$2/index.json" ]; }
+same_db() { diff -r -x .hybridwalk-owner.json "$1" "$2" >/dev/null && [ ! -e "$2/.chunks" ] && [ -s "$2/index.json" ]; }
 
 # ---- local: database and workers -------------------------------------------
 check bake "$hw" bake "${common[@]}" --out db

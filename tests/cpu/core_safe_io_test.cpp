@@ -16,6 +16,7 @@
 
 #include "core/file_io.h"
 #include "core/json_guard.h"
+#include "core/output_dir.h"
 #include "core/safe_io.h"
 
 namespace hw {
@@ -106,42 +107,33 @@ TEST(SafeIo, OutputOverFifoOrSocketIsRefusedAndNothingIsWritten) {
   EXPECT_FALSE(writeFileAtomic("", "x").ok());
 }
 
-// A process killed by SIGKILL leaves NAME.tmp-PID behind; the next write into
-// that directory removes it, and nothing else.
-TEST(SafeIo, StaleTemporariesOfDeadProcessesAreRemovedAndNothingElse) {
+// A process killed by SIGKILL leaves NAME.tmp-PID behind; the next run that
+// claims the folder removes the temporaries of the PID its marker recorded
+// (in the folder and its direct subfolders), and nothing else; a plain write
+// removes nothing.
+TEST(SafeIo, TemporariesOfTheRecordedRunAreRemovedAndNothingElse) {
   const std::string dir = tempDir();
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) ::_exit(0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);  // now a dead PID
-  const std::string dead = std::to_string(child), live = std::to_string(::getpid());
+  const std::string dead = "999999", other = "999998";
   auto touch = [&](const std::string& name) { std::ofstream(dir + "/" + name) << "x"; };
-  const std::vector<std::string> stale = {"report.json.tmp-" + dead,
-                                          ".report-frames.tmp-" + dead,
-                                          "a.png.tmp-1.tmp-" + dead};
-  const std::vector<std::string> kept = {"other.json.tmp-" + live,  // a live process's
+  const std::vector<std::string> stale = {"report.json.tmp-" + dead, ".report-frames.tmp-" + dead,
+                                          "a.png.tmp-1.tmp-" + dead, "frames/f.png.tmp-" + dead};
+  const std::vector<std::string> kept = {"other.json.tmp-" + other,  // another run's
+                                         "thesis.tmp-" + other,
                                          "notes.tmp-" + dead + ".txt", "notes.tmp-" + dead + "x",
-                                         "notes.tmp-", "x.tmp-abc", "plain.txt",
-                                         "report.json.tmp-1"};  // PID 1 is alive
+                                         "x.tmp-" + dead + "0", "plain.txt",
+                                         "frames/deeper/f.png.tmp-" + dead};  // two levels down
+  std::filesystem::create_directories(dir + "/frames/deeper");
   for (const auto& n : stale) touch(n);
   for (const auto& n : kept) touch(n);
-  std::filesystem::create_directory(dir + "/sub.tmp-" + dead);  // a directory: kept
   std::filesystem::create_symlink(dir + "/plain.txt", dir + "/link.tmp-" + dead);  // kept
-  std::ofstream(dir + "/sub.tmp-" + dead + "/inner.tmp-" + dead) << "x";  // below: not swept
   ASSERT_TRUE(writeFileAtomic(dir + "/report.json", "{}").ok());
+  for (const auto& n : stale) EXPECT_TRUE(std::filesystem::exists(dir + "/" + n)) << n;
+  EXPECT_EQ(removeTemporariesOfRun(dir, 999999), static_cast<int>(stale.size()));
   for (const auto& n : stale) EXPECT_FALSE(std::filesystem::exists(dir + "/" + n)) << n;
   for (const auto& n : kept) EXPECT_TRUE(std::filesystem::exists(dir + "/" + n)) << n;
-  EXPECT_TRUE(std::filesystem::exists(dir + "/sub.tmp-" + dead + "/inner.tmp-" + dead));
   EXPECT_TRUE(std::filesystem::is_symlink(dir + "/link.tmp-" + dead));
   EXPECT_TRUE(std::filesystem::exists(dir + "/report.json"));
-  // Once per directory and process: a stale file appearing later stays until
-  // the next run (or an explicit sweep).
-  touch("late.tmp-" + dead);
-  ASSERT_TRUE(writeFileAtomic(dir + "/report.json", "{}").ok());
-  EXPECT_TRUE(std::filesystem::exists(dir + "/late.tmp-" + dead));
-  EXPECT_EQ(removeStaleTemporaries(dir), 1);
-  EXPECT_FALSE(std::filesystem::exists(dir + "/late.tmp-" + dead));
+  EXPECT_EQ(removeTemporariesOfRun(dir, 0), 0);
 }
 
 TEST(SafeIo, TemporaryFileIsRemovedUnlessReleasedAndRegisteredMeanwhile) {
