@@ -30,6 +30,7 @@ TEST_F(SweepTest, QuadCountsAreTheBuildersAndBaselinesMatch) {
   bench::SweepOptions o;
   o.taus = taus;
   o.bothCriteria = false;
+  o.preset = session::Preset::Paper;  // the quad counts below are the paper's LOD builder
   o.variants = false;
   o.outDir = ::testing::TempDir() + "hw_sweep_test";
   o.progress = false;
