@@ -88,6 +88,20 @@ glm::dvec3 getVec(Reader& r) {
   v.z = r.get<double>();
   return v;
 }
+// The camera block of a keyframe file (docs/keyframe-db.md); returns the depth
+// mode stored after it, unchecked.
+std::uint32_t readCamera(Reader& r, Camera& c) {
+  c.eye = getVec(r);
+  c.right = getVec(r);
+  c.up = getVec(r);
+  c.forward = getVec(r);
+  c.fovYRadians = r.get<double>();
+  c.width = r.get<std::int32_t>();
+  c.height = r.get<std::int32_t>();
+  c.nearPlane = r.get<double>();
+  c.farPlane = r.get<double>();
+  return r.get<std::uint32_t>();
+}
 
 struct Header {
   std::uint32_t version = 0, headerBytes = 0;
@@ -303,16 +317,7 @@ Status decodeKeyframe(std::string_view bytes, const std::string& file, CachedKey
   Reader r(payload);
   Keyframe& kf = out.keyframe;
   Camera& c = kf.camera;
-  c.eye = getVec(r);
-  c.right = getVec(r);
-  c.up = getVec(r);
-  c.forward = getVec(r);
-  c.fovYRadians = r.get<double>();
-  c.width = r.get<std::int32_t>();
-  c.height = r.get<std::int32_t>();
-  c.nearPlane = r.get<double>();
-  c.farPlane = r.get<double>();
-  const auto dm = r.get<std::uint32_t>();
+  const auto dm = readCamera(r, c);
   if (c.width != h.width || c.height != h.height)
     return makeError(file + ": camera is " + std::to_string(c.width) + "x" +
                      std::to_string(c.height) + ", header says " + std::to_string(h.width) + "x" +
@@ -684,16 +689,7 @@ Status KeyframeDb::checkFiles() const {
     Reader r(std::string_view(bytes).substr(kKeyframeHeaderBytes));
     CachedKeyframe kf;
     Camera& c = kf.keyframe.camera;
-    c.eye = getVec(r);
-    c.right = getVec(r);
-    c.up = getVec(r);
-    c.forward = getVec(r);
-    c.fovYRadians = r.get<double>();
-    c.width = r.get<std::int32_t>();
-    c.height = r.get<std::int32_t>();
-    c.nearPlane = r.get<double>();
-    c.farPlane = r.get<double>();
-    const auto dm = r.get<std::uint32_t>();
+    const auto dm = readCamera(r, c);
     if (c.width != h->width || c.height != h->height)
       return makeError(path + ": camera is " + std::to_string(c.width) + "x" +
                        std::to_string(c.height) + ", header says " + std::to_string(h->width) +
