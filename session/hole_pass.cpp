@@ -32,8 +32,10 @@ Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, ga
   for (std::size_t k = 0; k < n; ++k) px_[k] = rects_[k].rect;
   if (n > 0) {
     Stopwatch sd;
-    HW_TRY(renderer.renderColourRects(cam, px_.data(), static_cast<int>(n), colours_.data()));
+    keyframe::RenderStats rs;
+    HW_TRY(renderer.renderColourRects(cam, px_.data(), static_cast<int>(n), colours_.data(), &rs));
     out->drawMs = sd.ms();
+    out->triangles = static_cast<long long>(rs.trianglesDrawn);
   }
   for (std::size_t k = 0; k < n; ++k) {
     applyRendered(px_[k], colours_[k], frame, step);

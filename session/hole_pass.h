@@ -29,6 +29,7 @@ struct HolePassResult {
   int drawn = 0;         // rectangles drawn
   long long area = 0;    // their pixels
   long long holes = 0;   // hole pixels (frame.holesBefore) among them
+  long long triangles = 0;  // triangles the pass submitted
   double drawMs = 0;     // the geometry renderer's pass
 };
 

@@ -711,6 +711,7 @@ Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* r
   (*fj)["hole_rects_over_budget"] = hr.wanted - hr.drawn;
   (*fj)["holes_budget_ms"] = finiteOrNull(budgetMs);
   (*fj)["hole_rect_pixels"] = hr.area;
+  (*fj)["hole_triangles"] = hr.triangles;
   (*fj)["holes_rendered"] = hr.holes;
   recorder_.series.holesRenderedPixels.push_back(static_cast<double>(hr.holes));
   return {};
