@@ -422,21 +422,7 @@ void Viewer::updateCamera(double dt) {
               moveSpeed_ * (fast ? kShiftFactor : 1.0) * dt);
     cam_ = cameraFromPose();
   }
-  // Smoothed motion, for placing the next keyframe ahead of the viewer.
-  if (dt > 1e-6) {
-    constexpr double kSmooth = 0.5;
-    const glm::dvec3 v = (cam_.eye - prevCam_.eye) / dt;
-    const double py = std::atan2(prevCam_.forward.x, -prevCam_.forward.z);
-    const double cy = std::atan2(cam_.forward.x, -cam_.forward.z);
-    double dyaw = cy - py;
-    if (dyaw > kPi) dyaw -= 2 * kPi;
-    if (dyaw < -kPi) dyaw += 2 * kPi;
-    const double dpitch = std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) -
-                          std::asin(std::clamp(prevCam_.forward.y, -1.0, 1.0));
-    velocity_ = glm::mix(velocity_, v, kSmooth);
-    yawRate_ = yawRate_ + kSmooth * (dyaw / dt - yawRate_);
-    pitchRate_ = pitchRate_ + kSmooth * (dpitch / dt - pitchRate_);
-  }
+  motion_.update(prevCam_, cam_, dt);  // for placing the next keyframe ahead
   moving_ = poseDistance(cam_, prevCam_) > 1e-9;
 
   if (recording_) {

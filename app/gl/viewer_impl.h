@@ -18,6 +18,7 @@
 #include "app/viewer.h"
 #include "app/viewer_frame_log.h"
 #include "app/viewer_keys.h"
+#include "app/viewer_motion.h"
 #include "core/gl/context.h"
 #include "core/gl/shader.h"
 #include "core/timer.h"
@@ -66,10 +67,6 @@ struct InputQueue {
   std::array<unsigned, 64> chars{};
   int count = 0;
 };
-
-inline double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-}
 
 // One keyframe around the viewer: its images, quad mesh, GPU copy and the
 // quads' outlines (GL_LINES, world space) for the wireframe view.
@@ -148,9 +145,8 @@ class Viewer {
     c.height = height_;
     return c;
   }
-  double poseDistance(const Camera& a, const Camera& b) const {
-    return glm::length(a.eye - b.eye) / kfDistance_ + angleBetween(a.forward, b.forward) / kfAngle_;
-  }
+  PoseMetric metric() const { return {kfDistance_, kfAngle_}; }
+  double poseDistance(const Camera& a, const Camera& b) const { return metric()(a, b); }
   void handleChar(unsigned c, bool flying);
   void typeScriptedKeys();  // those due before this frame into the input queue
   void updateCamera(double dt);
@@ -232,8 +228,7 @@ class Viewer {
   Camera home_;
   Camera cam_, prevCam_;
   FlyPose pose_;  // fly controls (app/fly_pose.h)
-  glm::dvec3 velocity_{0.0};  // smoothed, units/s
-  double yawRate_ = 0, pitchRate_ = 0;
+  MotionEstimate motion_;
   double moveSpeed_ = 1;  // units/s
   double kfDistance_ = 1, kfAngle_ = 0.25;
   bool mouseLook_ = false;

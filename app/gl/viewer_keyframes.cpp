@@ -119,49 +119,16 @@ Status Viewer::takeFromWorker(FrameStats& st, bool wait) {
 // Where the viewer will be when it is `distance` pose-distance units away:
 // the path's camera when playing, else the current motion extrapolated.
 Camera Viewer::aheadCamera(double distance) const {
-  if (play_ && playCams_.size() > 1) {
-    const int n = static_cast<int>(playCams_.size());
-    Camera best = cam_;
-    double bestS = -1;
-    for (int k = 0; k < n - 1; ++k) {
-      const Camera& c = playCams_[static_cast<std::size_t>((playIndex_ + k) % n)];
-      const double s = poseDistance(c, cam_);
-      if (s > bestS) best = c, bestS = s;
-      if (s >= distance) break;
-    }
-    return sized(best);
-  }
-  const double rate = glm::length(velocity_) / kfDistance_ +
-                      std::sqrt(yawRate_ * yawRate_ + pitchRate_ * pitchRate_) / kfAngle_;
-  if (!(rate > 1e-9)) return cam_;
-  const double t = distance / rate;
-  const glm::dvec3 eye = cam_.eye + velocity_ * t;
-  const double yaw = std::atan2(cam_.forward.x, -cam_.forward.z) + yawRate_ * t;
-  const double pitch = std::clamp(std::asin(std::clamp(cam_.forward.y, -1.0, 1.0)) + pitchRate_ * t,
-                                  -kMaxFlyPitch, kMaxFlyPitch);
-  return Camera::lookAt(eye, eye + flyForward(yaw, pitch), glm::dvec3(0, 1, 0), cam_.fovYRadians,
-                        width_, height_, cam_.nearPlane, cam_.farPlane);
+  if (play_ && playCams_.size() > 1)
+    return sized(pathCameraAhead(playCams_, playIndex_, cam_, distance, metric()));
+  return motion_.extrapolate(cam_, distance, metric(), width_, height_);
 }
 
-// The keyframe after `newest`, `spacing` beyond it: playing, the first
-// camera of the path after the viewer that is that far from the newest and
-// farther from the viewer than the newest (so past it; pose distance along a
-// bending path is not additive, so the distance from the viewer would not
-// do); else the motion extrapolated to `distance` from the viewer.
+// The keyframe after `newest`, `spacing` beyond it: playing, on the path
+// (pathCameraBeyond); else the motion extrapolated to `distance` from the viewer.
 Camera Viewer::beyondCamera(const Camera& newest, double spacing, double distance) const {
   if (!(play_ && playCams_.size() > 1)) return aheadCamera(distance);
-  const int n = static_cast<int>(playCams_.size());
-  const double sNewest = poseDistance(newest, cam_);
-  Camera best = cam_;
-  double bestS = -1;
-  for (int k = 0; k < n - 1; ++k) {
-    const Camera& c = playCams_[static_cast<std::size_t>((playIndex_ + k) % n)];
-    if (poseDistance(c, cam_) <= sNewest) continue;  // not past the newest yet
-    const double s = poseDistance(c, newest);
-    if (s > bestS) best = c, bestS = s;
-    if (s >= spacing) break;
-  }
-  return sized(best);
+  return sized(pathCameraBeyond(playCams_, playIndex_, cam_, newest, spacing, metric()));
 }
 
 Status Viewer::buildKeyframe(Slot& slot, const Camera& cam) {
