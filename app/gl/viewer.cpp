@@ -5,6 +5,9 @@
 // texture and drawn with one full-screen triangle. With --async-keyframes a
 // worker thread renders and meshes keyframes in a hidden window's context
 // (keyframe/gl/async_keyframes.h) and the frame only uploads what it hands over.
+// This file: set-up, input (keys, scripted keys, mouse and fly controls,
+// path recording and playing) and the frame loop; the keyframes and frames
+// are in viewer_keyframes.cpp, the drawing on screen in viewer_draw.cpp.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +21,11 @@
 
 namespace hw::app::viewer_detail {
 namespace {
+
+constexpr double kMouseRadiansPerPixel = 0.0025;
+constexpr double kShiftFactor = 4.0;
+constexpr double kSpeedStep = 1.5;
+constexpr double kRecordStep = 0.25;  // a recorded key every this much pose distance s
 
 void charCallback(GLFWwindow* w, unsigned codepoint) {
   auto* q = static_cast<InputQueue*>(glfwGetWindowUserPointer(w));

@@ -33,26 +33,7 @@
 namespace hw::app::viewer_detail {
 
 inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr double kMouseRadiansPerPixel = 0.0025;
-inline constexpr double kShiftFactor = 4.0;
-inline constexpr double kSpeedStep = 1.5;
-inline constexpr double kMessageSeconds = 4.0;
-// Keyframe policy, in units of the pose distance s (keyframeDistance and
-// keyframeAngleDeg each count 1): session/keyframe_survey.h.
-using session::kLost;
-using session::kPassedNewest;
-using session::kUseless;
-// With the keyframe worker (not lockstep) the keyframe after the newest is
-// requested once the viewer is kEarlyFraction of the way from the older
-// keyframe to the newest (0: as soon as the newest has no successor in
-// flight), kAheadSpacing beyond the newest (about where the synchronous
-// viewer puts it: 1 ahead of a viewer that passed the newest by
-// kPassedNewest), and put into a slot when the synchronous viewer would
-// render it. Measured (indoor, 800x600, 120 frames of --play, 4-8 runs each):
-// stalls 3-6 at 0.5, 1-4 at 0.25, 0-2 at 0.
-inline constexpr double kAheadSpacing = 1.0 + kPassedNewest;
-inline constexpr double kEarlyFraction = 0.0;
-inline constexpr double kRecordStep = 0.25;  // a recorded key every this much s
+inline constexpr double kMessageSeconds = 4.0;  // how long a HUD message stays
 
 // stb_easy_font's vertex layout.
 struct EasyVertex {
