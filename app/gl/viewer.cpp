@@ -329,31 +329,20 @@ void Viewer::toggleFullScreen() {
 }
 
 void Viewer::toggleRecording() {
-  const glm::dvec3 look = cam_.eye + cam_.forward * kfDistance_;
-  if (!recording_) {
-    recorded_ = scenes::CameraPath{};
-    recorded_.width = width_;
-    recorded_.height = height_;
-    recorded_.fovYDeg = base_.fovYRadians * 180.0 / kPi;
-    recorded_.nearPlane = base_.nearPlane;
-    recorded_.farPlane = base_.farPlane;
-    recordedFrames_ = 0;  // keys and frames are added from this frame's camera on
-    recording_ = true;
+  if (!recorder_.recording()) {
+    recorder_.start(base_, width_, height_, kfDistance_, kRecordStep);
     message("recording a camera path (z: stop and save)");
     return;
   }
-  recording_ = false;
-  if (recorded_.keys.empty() || poseDistance(cam_, lastRecordedKey_) > 0)
-    recorded_.keys.push_back({cam_.eye, look});
-  recorded_.frames = std::max(recordedFrames_, 1);
+  const scenes::CameraPath& path = recorder_.stop(cam_, metric());
   const std::string file = opt_.recordPath.empty() ? "hybridwalk_path.json" : opt_.recordPath;
-  const Status s = writeFileAtomic(file, scenes::cameraPathToJson(recorded_));
+  const Status s = writeFileAtomic(file, scenes::cameraPathToJson(path));
   if (!s) {
     message("cannot save the path: " + s.error().message);
     return;
   }
-  message("camera path saved to " + file + " (" + std::to_string(recorded_.keys.size()) +
-          " keys, " + std::to_string(recorded_.frames) + " frames)");
+  message("camera path saved to " + file + " (" + std::to_string(path.keys.size()) + " keys, " +
+          std::to_string(path.frames) + " frames)");
 }
 
 void Viewer::togglePlayRecorded() {
@@ -371,8 +360,8 @@ void Viewer::togglePlayRecorded() {
     }
     setPlayPath(*p);
     message("playing " + file);
-  } else if (!recorded_.keys.empty()) {
-    setPlayPath(recorded_);
+  } else if (!recorder_.path().keys.empty()) {
+    setPlayPath(recorder_.path());
     message("playing the last recording");
   } else {
     message("nothing to play: " + file + " does not exist and nothing was recorded");
@@ -433,13 +422,7 @@ void Viewer::updateCamera(double dt) {
   motion_.update(prevCam_, cam_, dt);  // for placing the next keyframe ahead
   moving_ = poseDistance(cam_, prevCam_) > 1e-9;
 
-  if (recording_) {
-    ++recordedFrames_;
-    if (recorded_.keys.empty() || poseDistance(cam_, lastRecordedKey_) >= kRecordStep) {
-      recorded_.keys.push_back({cam_.eye, cam_.eye + cam_.forward * kfDistance_});
-      lastRecordedKey_ = cam_;
-    }
-  }
+  recorder_.addFrame(cam_, metric());
 }
 
 void Viewer::typeScriptedKeys() {
@@ -563,7 +546,7 @@ Status Viewer::finish() {
     }
     if (opt_.onExit) opt_.onExit(cam_);
   }
-  if (recording_) toggleRecording();  // save what was recorded
+  if (recorder_.recording()) toggleRecording();  // save what was recorded
   printSummary();
   if (!opt_.frameStatsPath.empty()) {
     HW_TRY(writeFileAtomic(opt_.frameStatsPath, frameStatsCsv(records_)));

@@ -173,7 +173,7 @@ void Viewer::hudStatsText() {
                         : hybrid_ ? "hybrid"
                                   : "geometry",
                         fps, frameMsSmoothed_, moveSpeed_, play_ ? "  [playing]" : "",
-                        recording_ ? "  [recording]" : "");
+                        recorder_.recording() ? "  [recording]" : "");
   auto append = [&](const char* fmt, auto... args) {
     if (n < 0 || n >= static_cast<int>(sizeof hudText_)) return;
     const int m = std::snprintf(hudText_ + n, sizeof hudText_ - static_cast<std::size_t>(n), fmt,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/fly_pose.h"
+#include "app/path_recorder.h"
 #include "app/viewer.h"
 #include "app/viewer_frame_log.h"
 #include "app/viewer_keys.h"
@@ -233,10 +234,7 @@ class Viewer {
   int playIndex_ = 0;
   int playFrame_ = -1;           // frame of the play path shown now; -1: not playing it
   bool playingBakedPath_ = false;  // playCams_ is the path the database was baked from
-  bool recording_ = false;
-  scenes::CameraPath recorded_;
-  Camera lastRecordedKey_;
-  int recordedFrames_ = 0;
+  PathRecorder recorder_;  // `z`
   bool captureRequested_ = false, psnrRequested_ = false;
   int windowedX_ = 0, windowedY_ = 0, windowedW_ = 0, windowedH_ = 0;
 
