@@ -565,7 +565,7 @@ void Viewer::printSummary() const {
               : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
               : stats_.layers == 2 ? "hybrid, two keyframes warped"
                                    : "hybrid, one keyframe warped");
-  std::printf("%s", modeSummary(records_, opt_.mode, firstGeometryChoice_, autoSwitches_).c_str());
+  std::printf("%s", modeSummary(records_, opt_.mode, auto_.firstGeometryChoice(), auto_.switches()).c_str());
   const bool budget = opt_.frameBudgetMs > 0 || opt_.frameBudgetAuto;
   std::printf("%s", frameTimeSummary(records_, !budget              ? nullptr
                                                : opt_.frameBudgetAuto ? "auto"

@@ -16,6 +16,7 @@
 
 #include "app/fly_pose.h"
 #include "app/path_recorder.h"
+#include "app/viewer_auto_mode.h"
 #include "app/viewer.h"
 #include "app/viewer_frame_log.h"
 #include "app/viewer_keys.h"
@@ -217,13 +218,8 @@ class Viewer {
   double lastMouseX_ = 0, lastMouseY_ = 0;
 
   bool hybrid_ = true, wireframe_ = false, overlay_ = false, holeMask_ = false, help_ = false;
-  // ViewerOptions::mode Auto: every kAutoFrames frames, hybrid or geometry,
-  // whichever the chooser predicts cheaper from this session's frames.
-  static constexpr int kAutoFrames = 10, kAutoProbeEvery = 4, kAutoMinGeometrySamples = 3;
-  bool autoMode_ = false;
-  session::ModeChooser chooser_;
-  int framesSinceChoice_ = 0, choicesSinceProbe_ = 0, geometrySamples_ = 0;
-  long autoSwitches_ = 0, firstGeometryChoice_ = -1;  // frame of the first switch to geometry
+  bool autoMode_ = false;  // ViewerOptions::mode Auto, until `g`
+  ViewerAutoMode auto_;
   void chooseMode(bool* probe);
   void recordCost(const FrameStats& st, double workMs);
   StatsLevel statsLevel_ = StatsLevel::Fps;

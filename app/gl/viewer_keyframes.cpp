@@ -438,7 +438,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
     session::HoleBudget budget;
     if (autoMode_) {
       budget.fraction = opt_.renderHolesBudget;
-      budget.geometryMs = chooser_.geometryMs();
+      budget.geometryMs = auto_.geometryMs();
       budget.frameMsSoFar = frameWork_.ms();
     }
     session::HolePassResult hr;
@@ -459,63 +459,29 @@ Status Viewer::renderHybrid(FrameStats& st) {
   return {};
 }
 
-// Every kAutoFrames frames, whether to draw hybrid or geometry (the walk's
-// rule, session/frame_mode.h, with segments of kAutoFrames frames). While
-// hybrid only keyframes rendered in the frame measure the geometry: until
-// kAutoMinGeometrySamples geometry renders are known (so that one slow render
-// does not decide), and with keyframes from the worker or a database every
-// kAutoProbeEvery choices, a choice draws one frame as geometry.
-// Between choices, hybrid frames that all cost more than drawing give the
-// segment up at once (ModeChooser::giveUp), as the walk does.
+// --mode auto (app/viewer_auto_mode.h); `g` ends it.
 void Viewer::chooseMode(bool* probe) {
   *probe = false;
   if (!autoMode_) return;
-  // The geometry cost compared against is this view's (ModeChooserOptions::geometryByTriangles).
-  chooser_.setViewTriangles(static_cast<double>(renderer_->visibleTriangles(cam_)));
-  if (++framesSinceChoice_ < kAutoFrames) {
-    if (hybrid_ && chooser_.giveUp()) {
-      hybrid_ = false;
-      engine_->forgetPrevious();
-      ++autoSwitches_;
-      if (firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
-      message("auto: geometry (hybrid frames cost more; from frame " +
-              std::to_string(frameIndex_) + ")");
-    }
-    return;
-  }
-  framesSinceChoice_ = 0;
-  chooser_.startSegment();
-  const bool next = chooser_.warpNext(hybrid_, kAutoFrames);
-  if (next != hybrid_) {
-    hybrid_ = next;
-    engine_->forgetPrevious();
-    ++autoSwitches_;
-    if (!hybrid_ && firstGeometryChoice_ < 0) firstGeometryChoice_ = frameIndex_;
+  const ViewerAutoMode::Step s =
+      auto_.step(hybrid_, static_cast<double>(renderer_->visibleTriangles(cam_)), frameIndex_,
+                 worker_ || opt_.keyframeDb);
+  *probe = s.probe;
+  if (!s.switched) return;
+  hybrid_ = s.hybrid;
+  engine_->forgetPrevious();
+  if (s.gaveUp)
+    message("auto: geometry (hybrid frames cost more; from frame " + std::to_string(frameIndex_) +
+            ")");
+  else
     message(std::string(hybrid_ ? "auto: hybrid" : "auto: geometry") +
             " (cheaper now; from frame " + std::to_string(frameIndex_) + ")");
-  } else if (hybrid_ &&
-             (geometrySamples_ < kAutoMinGeometrySamples ||
-              ((worker_ || opt_.keyframeDb) && ++choicesSinceProbe_ >= kAutoProbeEvery))) {
-    choicesSinceProbe_ = 0;
-    *probe = true;
-  }
 }
 
 void Viewer::recordCost(const FrameStats& st, double workMs) {
-  // A keyframe rendered in the frame is a geometry render too (colour and
-  // depth; the walk counts it so).
-  if (st.builtKeyframe) {
-    chooser_.addGeometryMs(lastKeyframe_.renderMs, static_cast<double>(lastKeyframe_.triangles));
-    ++geometrySamples_;
-  }
-  switch (st.kind()) {
-    case session::FrameKind::Geometry:
-      chooser_.addGeometryMs(st.geometryMs, static_cast<double>(st.trianglesDrawn));
-      ++geometrySamples_;
-      break;
-    case session::FrameKind::Keyframe: chooser_.addKeyframeMs(workMs); break;
-    case session::FrameKind::Warp: chooser_.addInBetweenMs(workMs); break;
-  }
+  auto_.record(st.kind(), workMs, st.geometryMs, static_cast<double>(st.trianglesDrawn),
+               st.builtKeyframe, lastKeyframe_.renderMs,
+               static_cast<double>(lastKeyframe_.triangles));
 }
 
 Status Viewer::renderFrame() {
