@@ -154,6 +154,11 @@ struct ViewerOptions {
 // defaults (session/frame_engine.h), as both presets have them.
 void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out);
 
+// Options a caller of runViewer got wrong (window size, thresholds, frame
+// counts, --keys marks), as an error naming the value; the CLI checks its
+// own first.
+Status checkViewerOptions(const ViewerOptions& options);
+
 // Runs the viewer until Esc / the window is closed / exitAfterFrames. The
 // starting and home camera is the first of the play path (if given) or of
 // `defaultPath`; its fov and near/far planes are used throughout. Returns 0,

@@ -37,33 +37,9 @@ void keyCallback(GLFWwindow* w, int key, int, int action, int) {
 }
 }  // namespace
 
-// Bad options from a caller of runViewer (the CLI checks its own first).
-Status Viewer::checkOptions() const {
-  if (opt_.width < 16 || opt_.height < 16 || opt_.width > 16384 || opt_.height > 16384)
-    return makeError("window size must be in [16, 16384] pixels, got " +
-                     std::to_string(opt_.width) + "x" + std::to_string(opt_.height));
-  if (!(opt_.lod.tau >= 0) || !std::isfinite(opt_.lod.tau))
-    return makeError("tau must be finite and >= 0, got " + std::to_string(opt_.lod.tau));
-  if (!(opt_.lod.tauParallaxPx >= 0) || !std::isfinite(opt_.lod.tauParallaxPx))
-    return makeError("tau-px must be finite and >= 0, got " +
-                     std::to_string(opt_.lod.tauParallaxPx));
-  if (!(opt_.lod.tauGradient >= 0) || !std::isfinite(opt_.lod.tauGradient))
-    return makeError("tau gradient must be finite and >= 0, got " +
-                     std::to_string(opt_.lod.tauGradient));
-  if (!(opt_.keyframeAngleDeg > 0 && opt_.keyframeAngleDeg < 180) ||
-      !(opt_.keyframeDistance >= 0) || !std::isfinite(opt_.keyframeDistance))
-    return makeError("keyframe thresholds: distance must be >= 0 and angle in (0, 180) degrees");
-  if (opt_.exitAfterFrames < 0)
-    return makeError("exit-after frame count must be >= 0, got " +
-                     std::to_string(opt_.exitAfterFrames));
-  return {};
-}
-
 Status Viewer::setUp() {
-  HW_TRY(checkOptions());
-  auto keys = parseScriptedKeys(opt_.keys);
-  if (!keys) return keys.error();
-  scriptedKeys_ = std::move(*keys);
+  HW_TRY(checkViewerOptions(opt_));
+  scriptedKeys_ = *parseScriptedKeys(opt_.keys);  // checked
 
   scenes::CameraPath path = defaultPath_;
   if (!opt_.playPath.empty()) {
@@ -584,14 +560,6 @@ void Viewer::printSummary() const {
 }  // namespace hw::app::viewer_detail
 
 namespace hw::app {
-
-void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
-  out->mode = walk.mode;
-  out->lod = walk.lod;
-  out->asyncKeyframes = walk.asyncKeyframes;
-  out->renderHoles = walk.renderHoles;
-  out->renderHolesBudget = walk.renderHolesBudget;
-}
 
 int runViewer(const scenes::Scene& scene, const scenes::CameraPath& defaultPath,
               const ViewerOptions& options) {

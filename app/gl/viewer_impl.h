@@ -116,7 +116,6 @@ class Viewer {
 
  private:
   Status setUp();
-  Status checkOptions() const;
   Status createGlResources();  // viewer_draw.cpp
   void releaseGl();
   Status resize(int w, int h);
