@@ -46,8 +46,12 @@ void ViewerAutoMode::record(session::FrameKind kind, double workMs, double geome
       chooser_.addGeometryMs(geometryMs, triangles);
       ++geometrySamples_;
       break;
-    case session::FrameKind::Keyframe: chooser_.addKeyframeMs(workMs); break;
-    case session::FrameKind::Warp: chooser_.addInBetweenMs(workMs); break;
+    case session::FrameKind::Keyframe:
+      chooser_.addKeyframeMs(workMs);
+      break;
+    case session::FrameKind::Warp:
+      chooser_.addInBetweenMs(workMs);
+      break;
   }
 }
 

@@ -17,8 +17,8 @@ class ViewerAutoMode {
   static constexpr int kFrames = 10, kProbeEvery = 4, kMinGeometrySamples = 3;
 
   struct Step {
-    bool hybrid = true;   // how this frame and the next ones are drawn
-    bool probe = false;   // this one frame as geometry, to measure it
+    bool hybrid = true;  // how this frame and the next ones are drawn
+    bool probe = false;  // this one frame as geometry, to measure it
     bool switched = false;
     bool gaveUp = false;  // switched to geometry between choices
   };

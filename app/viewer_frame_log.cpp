@@ -16,11 +16,11 @@ std::string frameStatsCsv(const std::vector<FrameRecord>& records) {
       "hole_rects_over_budget,holes_ms\n";
   char line[260];
   for (const FrameRecord& r : records) {
-    std::snprintf(line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%s,%d,%d,%.3f\n",
-                  r.frame, r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0,
-                  r.worker ? 1 : 0, r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0,
-                  r.layers, r.workMs, r.budgetMs, session::frameKindName(r.kind), r.holeRects,
-                  r.holeRectsOverBudget, r.holesMs);
+    std::snprintf(
+        line, sizeof line, "%ld,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%s,%d,%d,%.3f\n",
+        r.frame, r.playFrame, r.ms, r.keyframeMs, r.built ? 1 : 0, r.read ? 1 : 0, r.worker ? 1 : 0,
+        r.requested ? 1 : 0, r.waited ? 1 : 0, r.stalled ? 1 : 0, r.layers, r.workMs, r.budgetMs,
+        session::frameKindName(r.kind), r.holeRects, r.holeRectsOverBudget, r.holesMs);
     csv += line;
   }
   return csv;

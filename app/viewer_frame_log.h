@@ -11,10 +11,10 @@ namespace hw::app {
 // One displayed frame.
 struct FrameRecord {
   long frame = 0;
-  int playFrame = -1;   // frame of the played path shown; -1: not playing it
-  double ms = 0;        // from the end of the previous frame to the end of this one
-  double workMs = 0;    // from the start of this frame until it was shown (pacing wait excluded)
-  double budgetMs = 0;  // this frame's budget (--frame-budget-ms; 0 = none)
+  int playFrame = -1;     // frame of the played path shown; -1: not playing it
+  double ms = 0;          // from the end of the previous frame to the end of this one
+  double workMs = 0;      // from the start of this frame until it was shown (pacing wait excluded)
+  double budgetMs = 0;    // this frame's budget (--frame-budget-ms; 0 = none)
   double keyframeMs = 0;  // keyframe render, read or worker hand-over in this frame
   // Keyframe events: rendered in the frame, read from a database, taken from
   // the worker, requested from it, wanted while it was not ready, and lost

@@ -80,9 +80,12 @@ StatsLevel nextStatsLevel(StatsLevel level) {
 
 const char* statsLevelDescription(StatsLevel level) {
   switch (level) {
-    case StatsLevel::Off: return "statistics off";
-    case StatsLevel::Fps: return "statistics: fps";
-    case StatsLevel::Stages: return "statistics: fps, per-stage ms, quads, holes";
+    case StatsLevel::Off:
+      return "statistics off";
+    case StatsLevel::Fps:
+      return "statistics: fps";
+    case StatsLevel::Stages:
+      return "statistics: fps, per-stage ms, quads, holes";
     case StatsLevel::Stalls:
       return "statistics: fps, per-stage ms, quads, holes, keyframe stalls and waits";
   }

@@ -39,8 +39,9 @@ void MotionEstimate::update(const Camera& prev, const Camera& cur, double dt) {
 
 Camera MotionEstimate::extrapolate(const Camera& cur, double distance, const PoseMetric& metric,
                                    int width, int height) const {
-  const double rate = glm::length(velocity_) / metric.distance +
-                      std::sqrt(yawRate_ * yawRate_ + pitchRate_ * pitchRate_) / metric.angleRadians;
+  const double rate =
+      glm::length(velocity_) / metric.distance +
+      std::sqrt(yawRate_ * yawRate_ + pitchRate_ * pitchRate_) / metric.angleRadians;
   if (!(rate > 1e-9)) return cur;
   const double t = distance / rate;
   const glm::dvec3 eye = cur.eye + velocity_ * t;

@@ -3,9 +3,8 @@
 // its keyframes, the motion estimated from the frames shown (to render the
 // next keyframe ahead of a flying viewer), and the cameras ahead on a played
 // path. No GL.
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/camera.h"
 
@@ -32,8 +31,8 @@ class MotionEstimate {
   Camera extrapolate(const Camera& cur, double distance, const PoseMetric& metric, int width,
                      int height) const;
   const glm::dvec3& velocity() const { return velocity_; }  // scene units / s
-  double yawRate() const { return yawRate_; }                // radians / s
-  double pitchRate() const { return pitchRate_; }            // radians / s
+  double yawRate() const { return yawRate_; }               // radians / s
+  double pitchRate() const { return pitchRate_; }           // radians / s
 
  private:
   glm::dvec3 velocity_{0.0};

@@ -58,9 +58,9 @@ TEST(ViewerFrameLog, ModeSummaryCountsFramesByHowTheyWereDrawn) {
   EXPECT_NE(modeSummary(records(), session::FrameMode::Auto, 3, 2)
                 .find("; auto chose geometry from frame 3 (2 switches)\n"),
             std::string::npos);
-  EXPECT_NE(modeSummary(records(), session::FrameMode::Auto, -1, 0)
-                .find("; auto never chose geometry\n"),
-            std::string::npos);
+  EXPECT_NE(
+      modeSummary(records(), session::FrameMode::Auto, -1, 0).find("; auto never chose geometry\n"),
+      std::string::npos);
 }
 
 TEST(ViewerFrameLog, FrameTimesLeaveTheLoadOut) {
@@ -69,7 +69,8 @@ TEST(ViewerFrameLog, FrameTimesLeaveTheLoadOut) {
   EXPECT_NE(s.find("frame ms over frames 1..4: median "), std::string::npos) << s;
   EXPECT_NE(s.find("max 40.00\n"), std::string::npos) << s;
   EXPECT_EQ(s.find("frame budget"), std::string::npos) << s;
-  EXPECT_NE(frameTimeSummary(records(), "fixed").find("frame budget fixed: median 0.00 ms (0 frames had one)"),
+  EXPECT_NE(frameTimeSummary(records(), "fixed")
+                .find("frame budget fixed: median 0.00 ms (0 frames had one)"),
             std::string::npos);
   EXPECT_TRUE(frameTimeSummary(std::vector<FrameRecord>(1), nullptr).empty());
 }

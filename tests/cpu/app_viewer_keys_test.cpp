@@ -19,8 +19,8 @@ TEST(ViewerKeys, HelpAndCommandLineListEveryKey) {
     EXPECT_NE(line.find(std::string(k.key) + " " + k.brief), std::string::npos) << k.key;
   }
   // osgviewer's keys (DESIGN.md "Viewer conventions"), full screen included.
-  for (const char* k : {"s statistics", "w wireframe", "f full screen", "c screenshot",
-                        "z record", "Z play", "space home", "Esc quit", "h help"})
+  for (const char* k : {"s statistics", "w wireframe", "f full screen", "c screenshot", "z record",
+                        "Z play", "space home", "Esc quit", "h help"})
     EXPECT_NE(line.find(k), std::string::npos) << k << " in: " << line;
 }
 
