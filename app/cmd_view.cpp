@@ -12,6 +12,7 @@
 #include <string>
 
 #include "app/viewer.h"
+#include "app/viewer_keys.h"
 #include "session/bake.h"
 #include "bench/bench_suite.h"
 #include "session/export.h"
@@ -152,9 +153,8 @@ void addViewCommand(CLI::App& app, Commands& commands) {
   // view
   auto* viewCmd = o.viewCmd = app.add_subcommand(
       "view", "Interactive viewer (GLFW window; needs a display, e.g. xvfb-run): fly with the "
-              "right mouse button held + W/A/S/D/Q/E (Shift x4, +/- speed), g hybrid/geometry, "
-              "w wireframe/quad outlines, s statistics, o overlay, m hole mask, p PSNR, c "
-              "screenshot, z/Z record/play path, space home, h help, Esc quit");
+              "right mouse button held + W/A/S/D/Q/E (Shift x4, +/- speed); keys: " +
+                  app::viewerKeyLine());
   PresetCli& pc = o.presetCli;
   addScenePath(viewCmd, o.viewC);
   viewCmd->add_flag("--play", o.vo.play,
@@ -185,7 +185,15 @@ void addViewCommand(CLI::App& app, Commands& commands) {
   viewCmd->add_option("--screenshot", o.vo.screenshotPath, "Write the last frame to this PNG on exit");
   viewCmd->add_option("--record", o.vo.recordPath,
                       "Camera path file for z (record) / Z (play) (default: hybridwalk_path.json)");
-  viewCmd->add_option("--keys", o.vo.keys, "Keys typed before the first frame, e.g. 'so'");
+  viewCmd->add_option("--keys", o.vo.keys,
+                      "Keys typed before the first frame, e.g. 'so'; '@N' types the keys after "
+                      "it before frame N instead, e.g. 's@30p@60p' (PSNR of frames 30 and 60)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            auto k = app::parseScriptedKeys(v);
+            return k ? std::string() : k.error().message;
+          },
+          "KEYS"));
   viewCmd->add_option("--keyframes", o.viewKeyframes,
                       "Warp keyframes baked by 'hybridwalk bake' from this scene and path instead of "
                       "rendering them while near the baked path (with --play, exactly the walk's "

@@ -9,7 +9,8 @@
 //     right along the view), Q/E down/up. Without the button the letters are
 //     commands (so `s`/`w` keep their osgviewer meaning). Arrow keys and
 //     PageUp/PageDown move at any time. Shift: 4× faster. +/-: speed ×/÷ 1.5.
-//   osgviewer keys: s statistics (off / fps / per-stage ms, quads, holes),
+//   osgviewer keys: s statistics (fps, then per-stage ms, quads, holes, then
+//     also keyframe stalls and waits, then off; app/viewer_keys.h),
 //     w wireframe (hybrid: the warped keyframe quads' outlines; geometry: the
 //     scene's triangles), f full screen, c screenshot (PNG in the current
 //     directory), z record a camera path (again: stop and save), Z play it,
@@ -73,7 +74,9 @@ struct ViewerOptions {
   bool hud = true;          // false: never draw the HUD (image comparisons)
   bool visible = true;      // window shown
   // Typed before the first frame, one character per key press, as if from
-  // the keyboard (scripted sessions): e.g. "s" for per-stage statistics.
+  // the keyboard (scripted sessions): e.g. "s" for per-stage statistics;
+  // "@N" types the keys after it before frame N instead, e.g. "s@30p"
+  // (parseScriptedKeys, app/viewer_keys.h; a bad mark is an error exit).
   std::string keys;
   // A new keyframe is rendered when the viewer is this far (scene units) or
   // this much turned from its keyframes. 0 = the play/default path's spacing
@@ -150,6 +153,11 @@ struct ViewerOptions {
 // budget. Composition, near geometry and subdivision are the engine's
 // defaults (session/frame_engine.h), as both presets have them.
 void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out);
+
+// Options a caller of runViewer got wrong (window size, thresholds, frame
+// counts, --keys marks), as an error naming the value; the CLI checks its
+// own first.
+Status checkViewerOptions(const ViewerOptions& options);
 
 // Runs the viewer until Esc / the window is closed / exitAfterFrames. The
 // starting and home camera is the first of the play path (if given) or of

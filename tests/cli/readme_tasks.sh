@@ -32,6 +32,8 @@ while IFS= read -r cmd; do
   rc=$?
   check "exits 0: $cmd ($(tail -1 "$tmp/err$n"))" test $rc -eq 0
   check "  no nan: $cmd" bash -c '! grep -qiw nan "$1" "$2"' _ "$tmp/out$n" "$tmp/err$n"
+  [[ "$cmd" == *"hybridwalk view"*--screenshot* ]] && check "  the screenshot is a warped frame" \
+    grep -Eq "last frame: hybrid, (one keyframe|two keyframes) warped" "$tmp/out$n"
   if [[ "$cmd" == *"hybridwalk walk"* ]]; then
     out=$(sed -n 's/.*--out \([^ ]*\).*/\1/p' <<<"$cmd")
     check "  summary line first: $(head -1 "$tmp/out$n")" \

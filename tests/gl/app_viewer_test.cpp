@@ -163,6 +163,44 @@ TEST(Viewer, HudIsDrawnOverTheFrame) {
   EXPECT_GE(psnrCapped(s.screenshot, s.reference, lowerHalf), 40.0);
 }
 
+// The lowest row of the frame's left half holding HUD text: white pixels
+// the geometry frame does not have there; -1: none.
+int hudTextBottom(const Session& s) {
+  int bottom = -1;
+  for (int y = 0; y < s.screenshot.height(); ++y) {
+    int white = 0;
+    for (int x = 0; x < s.screenshot.width() / 2; ++x) {
+      const Rgba8 a = s.screenshot(x, y);
+      white += a.r == 255 && a.g == 255 && a.b == 255 && a != s.reference(x, y);
+    }
+    if (white >= 2) bottom = y;
+  }
+  return bottom;
+}
+
+// `s` cycles the statistics as docs/viewer.md says: from fps, a first `s`
+// adds per-stage lines, a second the keyframe stalls (not HUD off), a third
+// turns them off.
+TEST(Viewer, SCyclesStatisticsThroughStallsToOff) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr)
+      << "no DISPLAY: run under xvfb-run (scripts/test.sh does)";
+  int bottom[4] = {};
+  const char* keys[4] = {"", "s", "ss", "sss"};
+  for (int i = 0; i < 4; ++i) {
+    const Session s = runScripted(false, std::string("stats") + std::to_string(i), true, keys[i]);
+    ASSERT_EQ(s.exitCode, 0);
+    ASSERT_FALSE(s.screenshot.empty());
+    ASSERT_EQ(s.screenshot.width(), s.reference.width());
+    bottom[i] = hudTextBottom(s);
+  }
+  std::printf("HUD text bottom row: fps %d, s %d, ss %d, sss %d\n", bottom[0], bottom[1],
+              bottom[2], bottom[3]);
+  EXPECT_GT(bottom[0], 0);
+  EXPECT_GE(bottom[1], bottom[0] + 8);  // one more line (glyphs ~7 px, lines 10 px apart)
+  EXPECT_GE(bottom[2], bottom[1] + 8);  // and the keyframe stalls line
+  EXPECT_EQ(bottom[3], -1);             // off: no text at all
+}
+
 TEST(Viewer, DebugViewsAreDrawnInHybridMode) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr)
       << "no DISPLAY: run under xvfb-run (scripts/test.sh does)";
