@@ -362,11 +362,13 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--speed", o.pathOptions.metresPerFrame,
                 "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
                 "over 240 frames)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   c->add_option("--eye-height", o.pathOptions.eyeHeight,
                 "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
                 "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   c->add_option("--depth", o.depth,
                 "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
                 "far/near 1e5..1e6), fixed24 (the paper's 24-bit z-buffer), float32; all mapped "
@@ -382,8 +384,9 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option_function<int>(
        "--max-texture-size", [](const int& px) { setMaxTextureSize(px); },
        "Scene textures with a side above this are downscaled (with a warning); images over "
-       "max(8192, this)^2 pixels are not decoded (default 8192)")
-      ->check(CLI::Range(16, 65536));
+       "max(8192, this)^2 pixels are not decoded")
+      ->check(CLI::Range(16, 65536))
+      ->default_str(std::to_string(maxTextureSize()));
   const CLI::Validator size(
       [](std::string& v) -> std::string {
         char* end = nullptr;

@@ -102,6 +102,18 @@ int run(BenchCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     return 0;
 }
 
+// "100k,1M": triangle counts as --sizes takes them.
+std::string sizesText(const std::vector<std::size_t>& sizes) {
+  std::string out;
+  for (std::size_t n : sizes) {
+    if (!out.empty()) out += ",";
+    if (n % 1000000 == 0) out += std::to_string(n / 1000000) + "M";
+    else if (n % 1000 == 0) out += std::to_string(n / 1000) + "k";
+    else out += std::to_string(n);
+  }
+  return out;
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& app, Commands& commands) {
@@ -115,8 +127,8 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                "index.html");
   benchCmd->add_option("--out", o.benchOut, "Output directory")->capture_default_str();
   benchCmd->add_option("--sizes", o.benchSizes,
-                       "Comma-separated triangle counts for the complexity part (k/M suffixes), "
-                       "default 100k,300k,1M,2M,4M");
+                       "Comma-separated triangle counts for the complexity part (k/M suffixes); "
+                       "default " + sizesText(bench::BenchOptions{}.sizes));
   benchCmd->add_flag("--quick", o.benchQuick,
                      "Small version: sizes 100k,300k, fewer frames, trace at 100k, 3 spacings, skips on indoor only (11 frames)");
   benchCmd->add_flag("--quiet", o.benchQuiet, "No progress lines");

@@ -166,8 +166,9 @@ void addSweepCommand(CLI::App& app, Commands& commands) {
                     "--tau-gradient A) per tau; 0 = not run. " + tauGradientHelp())
       ->capture_default_str();
   sweep->add_option("--overlay-frame", o.sweepOverlayFrame,
-                    "Frame whose quad mesh is drawn per tau (default -1: the middle keyframe)")
-      ->check(CLI::Range(-1, 1 << 30));
+                    "Frame whose quad mesh is drawn per tau (-1: the middle keyframe)")
+      ->check(CLI::Range(-1, 1 << 30))
+      ->capture_default_str();
   sweep->add_option("--out", o.sweepOut, "Output directory")->capture_default_str();
   sweep->add_flag("--quiet", o.sweepQuiet, "No progress line");
   sweep->add_option("--cells-per-task", o.sweepPerTask,

@@ -34,6 +34,20 @@ xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$work/embed_glfw/embed_glfw" 3
 test -s "$work/window.ppm"
 test -x "$prefix/bin/hybridwalk"
 pcdir=$(dirname "$(find "$prefix" -name hybridwalk.pc)")
+# The package config and the .pc name the headless backends this build has
+# (as the installed program's `info` reports them), and no other.
+built=$("$prefix/bin/hybridwalk" info | sed -n 's/^headless OpenGL backends built: //p')
+config=$(find "$prefix" -name hybridwalkConfig.cmake)
+requires=$(sed -n 's/^Requires: //p' "$pcdir/hybridwalk.pc")
+for b in egl osmesa; do
+  want=OFF
+  grep -q "$b yes" <<<"$built" && want=ON
+  grep -q "^set(hybridwalk_HAVE_${b^^} $want)" "$config" ||
+    { echo "test_install: $config does not set hybridwalk_HAVE_${b^^} $want (built: $built)" >&2; exit 1; }
+  case " $requires " in *" $b "*) got=ON ;; *) got=OFF ;; esac
+  [ "$got" = "$want" ] ||
+    { echo "test_install: hybridwalk.pc Requires '$requires' (built: $built)" >&2; exit 1; }
+done
 # shellcheck disable=SC2046
 c++ -std=c++17 -O1 examples/embed_headless/main.cpp -o "$work/pc_headless" \
   $(PKG_CONFIG_PATH="$pcdir" pkg-config --cflags --libs hybridwalk)

@@ -57,6 +57,14 @@ bool hasExtension(const char* list, const char* name) {
   return false;
 }
 
+// What else to try when this display cannot give a context: OSMesa only in a
+// build that has it.
+#ifdef HW_HAVE_OSMESA
+constexpr const char* kTryOther = "use --gl osmesa or another device";
+#else
+constexpr const char* kTryOther = "use another device (--gl-device N; `hybridwalk info` lists them)";
+#endif
+
 const char* clientExtensions() { return eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS); }
 
 // The EGL devices, or an error when the library cannot enumerate them.
@@ -205,7 +213,7 @@ Result<std::unique_ptr<EglContext>> createCurrent(int device) {
   if (!d) return d.error();
   if (!eglBindAPI(EGL_OPENGL_API))
     return makeError("the " + d->name + " does not offer desktop OpenGL (eglBindAPI(EGL_OPENGL_API): " +
-                     eglErrorName(eglGetError()) + "); use --gl osmesa or another device");
+                     eglErrorName(eglGetError()) + "); " + kTryOther);
   const char* ext = eglQueryString(d->display, EGL_EXTENSIONS);
   // Rendering goes to FBOs, so no config is needed where the driver allows
   // it (Mesa's surfaceless platform offers no config with EGL_OPENGL_BIT);
@@ -216,11 +224,11 @@ Result<std::unique_ptr<EglContext>> createCurrent(int device) {
     EGLint n = 0;
     if (!eglChooseConfig(d->display, want, &config, 1, &n) || n < 1)
       return makeError("the " + d->name + " has no OpenGL config and lacks "
-                       "EGL_KHR_no_config_context; use --gl osmesa or another device");
+                       "EGL_KHR_no_config_context; " + kTryOther);
   }
   if (!hasExtension(ext, "EGL_KHR_surfaceless_context"))
     return makeError("the " + d->name + " lacks EGL_KHR_surfaceless_context (needed to render "
-                     "without a window); use --gl osmesa or another device");
+                     "without a window); " + kTryOther);
   const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
                             EGL_CONTEXT_MINOR_VERSION, 5,
                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
@@ -229,7 +237,7 @@ Result<std::unique_ptr<EglContext>> createCurrent(int device) {
   if (ctx == EGL_NO_CONTEXT)
     return makeError("the " + d->name + " refused an OpenGL 4.5 core context (" +
                      eglErrorName(eglGetError()) +
-                     "): the driver offers less; update it, or use --gl osmesa");
+                     "): the driver offers less; update it, or " + kTryOther);
   auto context = std::make_unique<EglContext>(d->display, ctx);
   if (!eglMakeCurrent(d->display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx))
     return makeError("cannot make the OpenGL context of the " + d->name + " current without a "

@@ -35,12 +35,14 @@ Result<Backend> environmentBackend() {
   return b;
 }
 
-std::string notBuilt(Backend b) {
+// `b` asked for in a build without it; `suggestOther`: name the backend the
+// build has (not when that one was tried and failed, as under --gl auto).
+std::string notBuilt(Backend b, bool suggestOther = true) {
   return std::string("this hybridwalk was built without ") +
          (b == Backend::Egl ? "EGL (configure with -DHW_WITH_EGL=ON and libegl-dev installed)"
                             : "OSMesa (configure with -DHW_WITH_OSMESA=ON and libosmesa6-dev "
                               "installed)") +
-         "; use --gl " + (b == Backend::Egl ? "osmesa" : "egl");
+         (suggestOther ? std::string("; use --gl ") + (b == Backend::Egl ? "osmesa" : "egl") : "");
 }
 
 Result<std::unique_ptr<Context>> create(Backend b, int device, bool second) {
@@ -141,13 +143,13 @@ Result<std::unique_ptr<Context>> createHeadlessContext(const HeadlessOptions& o)
   if (b == Backend::Auto) {
     // EGL when it gives a 4.5 core context, else OSMesa; both reasons when
     // neither does.
-    std::string eglWhy = notBuilt(Backend::Egl);
+    std::string eglWhy = notBuilt(Backend::Egl, false);
 #ifdef HW_HAVE_EGL
     ctx = detail::createEglContext(o.eglDevice, false);
     if (ctx) b = Backend::Egl;
     else eglWhy = ctx.error().message;
 #endif
-    if (!ctx && o.eglDevice >= 0) return ctx.error();  // a device names EGL
+    if (!ctx && o.eglDevice >= 0) return makeError(eglWhy);  // a device names EGL
     if (!ctx) {
 #ifdef HW_HAVE_OSMESA
       ctx = detail::createOsMesaContext(false);
@@ -157,7 +159,7 @@ Result<std::unique_ptr<Context>> createHeadlessContext(const HeadlessOptions& o)
                          "; OSMesa: " + ctx.error().message);
 #else
       return makeError("no headless OpenGL 4.5 core context: EGL: " + eglWhy + "; OSMesa: " +
-                       notBuilt(Backend::OsMesa));
+                       notBuilt(Backend::OsMesa, false));
 #endif
     }
   } else {

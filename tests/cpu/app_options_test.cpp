@@ -113,14 +113,21 @@ TEST(AppOptions, ShownDefaultIsTheRealDefault) {
 // With --preset paper, an option not given keeps the paper's value; one
 // given replaces only what it sets.
 TEST(AppOptions, PresetKeptUnlessGiven) {
-  const WalkRows rows = walkRows();
   const WalkOptions paper = session::presetOptions(Preset::Paper);
-  for (const auto& r : rows) {
-    if (r.flag) continue;
-    SCOPED_TRACE(r.name);
-    EXPECT_EQ(shown(rows, resolve(rows, "--preset paper " + r.name + " " + r.show(paper))),
-              shown(rows, paper));
+  for (const Command& c : kCommands) {
+    const WalkRows commandRows = c.rows();
+    for (const auto& r : commandRows) {
+      SCOPED_TRACE(std::string(c.name) + " " + r.name);
+      // Every other option of the command keeps the paper's value.
+      std::string given;
+      if (!r.flag) given = r.name + " " + r.show(paper);
+      else if (!r.negation.empty()) given = r.show(paper) == "on" ? r.name : r.negation;
+      else continue;  // a lone flag only ever departs from the preset
+      EXPECT_EQ(shown(commandRows, resolve(commandRows, "--preset paper " + given)),
+                shown(commandRows, paper));
+    }
   }
+  const WalkRows rows = walkRows();
   const WalkOptions o = resolve(rows, "--preset paper --near 2 --no-render-holes");
   EXPECT_EQ(o.inBetween.nearDistance, 2.0);
   EXPECT_FALSE(o.renderHoles);
