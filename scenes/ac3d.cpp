@@ -26,12 +26,7 @@ namespace hw::scenes {
 namespace {
 
 namespace fs = std::filesystem;
-using detail::ChunkBuilder;
-using detail::decodeAnyImage;
-using detail::degenerate;
-using detail::findTexture;
-using detail::hasCutout;
-using detail::lower;
+using namespace detail;  // the readers' shared helpers (model_common.h)
 
 constexpr int kMaxAcDepth = 256;  // object nesting; deeper files are refused, not recursed into
 // Largest count a declared numvert/refs may reserve before its lines are read.

@@ -31,12 +31,7 @@ namespace hw::scenes {
 namespace {
 
 namespace fs = std::filesystem;
-using detail::ChunkBuilder;
-using detail::decodeAnyImage;
-using detail::degenerate;
-using detail::findTexture;
-using detail::hasCutout;
-using detail::lower;
+using namespace detail;  // the readers' shared helpers (model_common.h)
 
 struct BlendLoader {
   const aiScene* ai;
