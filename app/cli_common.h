@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/slurm.h"
+#include "core/chunked_runs.h"
 #include "core/depth.h"
 #include "core/gl/context.h"
 #include "core/output_dir.h"
@@ -94,7 +94,7 @@ struct Loaded {
 
 // Chunked runs (bake, sweep): --slurm / --workers, docs/slurm.md.
 struct DistributeCli {
-  bench::DistributeOptions d;
+  DistributeOptions d;
   int chunk = -1;  // hidden: run one chunk (what a worker or array task runs)
 };
 

@@ -13,18 +13,11 @@
 #include "app/viewer.h"
 #include "session/bake.h"
 #include "session/presets.h"
-#include "bench/bench_suite.h"
 #include "session/export.h"
 #include "core/json_util.h"
-#include "bench/slurm.h"
+#include "core/chunked_runs.h"
 #include "session/schedule_calibration.h"
-#include "bench/schedule_oracle.h"
-#include "bench/schedule_study.h"
-#include "bench/stress.h"
-#include "bench/sweep.h"
 #include "session/walk.h"
-#include "report/schedule_plots.h"
-#include "report/walk_plots.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
@@ -73,15 +66,15 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
   if (dist.chunk >= 0) {
     if (dist.chunk >= chunks)
       return fail("--chunk: " + std::to_string(dist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
-    if (auto st = bench::failChunkHook(dist.chunk); !st) return fail(st.error().message);
+    if (auto st = failChunkHook(dist.chunk); !st) return fail(st.error().message);
     auto e = session::bakeKeyframes(in->scene, in->path, range(dist.chunk), bo);
     if (!e) return fail(e.error().message);
     json ej = json::array();
     for (const auto& x : *e) ej.push_back(entryJson(x));
-    if (auto st = bench::writeChunkResult(work, dist.chunk, {{"entries", ej}}); !st) return fail(st.error().message);
+    if (auto st = writeChunkResult(work, dist.chunk, {{"entries", ej}}); !st) return fail(st.error().message);
     return 0;
   }
-  if (dist.d.resume && !bench::distributed(dist.d))
+  if (dist.d.resume && !distributed(dist.d))
     return fail("--resume: only with --slurm or --workers N > 1 (an in-process bake has no chunks to resume)");
   auto start = session::prepareBakeDir(out, prov, in->path, keys, bo.depthMode, dist.d.resume);
   if (!start) return fail(start.error().message);
@@ -93,11 +86,11 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
   }
   std::vector<keyframe::KeyframeDbEntry> entries;
   Stopwatch sw;
-  if (bench::distributed(dist.d)) {
-    bench::ChunkPlan plan{"bake", work, chunks, bench::chunkCommand(argc, argv)};
+  if (distributed(dist.d)) {
+    ChunkPlan plan{"bake", work, chunks, chunkCommand(argc, argv)};
     dist.d.progress = !quiet;
-    if (auto st = bench::runChunks(plan, dist.d); !st) return fail(st.error().message);
-    auto results = bench::readChunkResults(plan);
+    if (auto st = runChunks(plan, dist.d); !st) return fail(st.error().message);
+    auto results = readChunkResults(plan);
     if (!results) return fail(results.error().message);
     for (const json& r : *results) {
       auto es = keyframe::parseKeyframeEntries(r.contains("entries") ? r["entries"] : json(),
@@ -111,7 +104,7 @@ int runBake(const Common& c, const keyframe::LodOptions& lod, const std::string&
     entries = std::move(*e);
   }
   if (auto st = session::writeBakeIndex(out, prov, entries); !st) return fail(st.error().message);
-  if (bench::distributed(dist.d)) bench::removeChunkDir(work);
+  if (distributed(dist.d)) removeChunkDir(work);
   std::uint64_t bytes = 0;
   for (const auto& e : entries) bytes += e.bytes;
   // Every keyframe of the schedule; a walk from the database reads those its

@@ -12,19 +12,13 @@
 
 #include "app/viewer.h"
 #include "session/bake.h"
-#include "bench/bench_suite.h"
 #include "session/export.h"
 #include "core/json_util.h"
-#include "bench/slurm.h"
+#include "core/chunked_runs.h"
 #include "session/schedule_calibration.h"
-#include "bench/schedule_oracle.h"
-#include "bench/schedule_study.h"
-#include "bench/stress.h"
 #include "bench/sweep.h"
 #include "session/presets.h"
 #include "session/walk.h"
-#include "report/schedule_plots.h"
-#include "report/walk_plots.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
 #include "core/machine.h"
@@ -97,12 +91,12 @@ int run(SweepCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (o.sweepDist.chunk >= 0) {  // one chunk: its cells' rows to WORK/chunk-I.json
       if (o.sweepDist.chunk >= chunks)
         return fail("--chunk: " + std::to_string(o.sweepDist.chunk) + " out of range 0.." + std::to_string(chunks - 1));
-      if (auto st = bench::failChunkHook(o.sweepDist.chunk); !st) return fail(st.error().message);
+      if (auto st = failChunkHook(o.sweepDist.chunk); !st) return fail(st.error().message);
       so.progress = false;
       auto rows = bench::runSweepCells(in->scene, o.sweepC.scene, in->path, so, o.sweepDist.chunk * o.sweepPerTask,
                                        std::min(*cells, (o.sweepDist.chunk + 1) * o.sweepPerTask));
       if (!rows) return fail(rows.error().message);
-      if (auto st = bench::writeChunkResult(work, o.sweepDist.chunk, {{"rows", *rows}}); !st)
+      if (auto st = writeChunkResult(work, o.sweepDist.chunk, {{"rows", *rows}}); !st)
         return fail(st.error().message);
       return 0;
     }
@@ -110,18 +104,18 @@ int run(SweepCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
       std::fprintf(stderr, "sweep: %d cells, each a walk of %s\n", *cells, bench::sweepPipeline(so).c_str());
     so.resume = o.sweepDist.d.resume;  // in process: the row log; distributed: the chunks
     Result<json> res = makeError("");
-    if (bench::distributed(o.sweepDist.d)) {
+    if (distributed(o.sweepDist.d)) {
       if (auto st = ensureWritableDir(o.sweepOut); !st) return fail(st.error().message);
-      bench::ChunkPlan plan{"sweep", work, chunks, bench::chunkCommand(argc, argv)};
+      ChunkPlan plan{"sweep", work, chunks, chunkCommand(argc, argv)};
       o.sweepDist.d.progress = !o.sweepQuiet;
-      if (auto st = bench::runChunks(plan, o.sweepDist.d); !st) return fail(st.error().message);
-      auto results = bench::readChunkResults(plan);
+      if (auto st = runChunks(plan, o.sweepDist.d); !st) return fail(st.error().message);
+      auto results = readChunkResults(plan);
       if (!results) return fail(results.error().message);
       json rows = json::array();
       for (const json& r : *results)
         for (const json& row : r.at("rows")) rows.push_back(row);
       res = bench::finishSweep(in->scene, o.sweepC.scene, in->path, so, rows);
-      if (res) bench::removeChunkDir(work);
+      if (res) removeChunkDir(work);
     } else {
       res = bench::runSweep(in->scene, o.sweepC.scene, in->path, so);
     }

@@ -13,20 +13,13 @@
 
 #include "app/viewer.h"
 #include "session/bake.h"
-#include "bench/bench_suite.h"
 #include "session/export.h"
 #include "core/json_util.h"
-#include "bench/slurm.h"
 #include "session/schedule_calibration.h"
-#include "bench/schedule_oracle.h"
-#include "bench/schedule_study.h"
-#include "bench/stress.h"
-#include "bench/sweep.h"
 #include "session/planned_walk.h"
 #include "session/presets.h"
 #include "session/walk.h"
-#include "report/schedule_plots.h"
-#include "report/walk_plots.h"
+#include "app/walk_plots.h"
 #include "report/walk_page.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
@@ -214,20 +207,20 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (auto e = plannedWalkOptions(o, frames, &pw); !e.empty()) return fail(e);
     auto p = session::planWalk(in->scene, o.walkC.scene, in->path, frames, wo, std::move(pw));
     if (!p) return fail(p.error().message);
-    if (auto st = report::writePlannedWalkPlots(o.walkOut, *p); !st) return fail(st.error().message);
+    if (auto st = writePlannedWalkPlots(o.walkOut, *p); !st) return fail(st.error().message);
     wo.keyframeFrames = p->keyframes;
     planned = std::move(*p);
   }
   auto res = session::runWalk(in->scene, o.walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
   if (!wo.outDir.empty()) {
-    if (auto st = report::writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, o.walkC.scene);
+    if (auto st = writeFrameTimes(wo.outDir + "/frame_times.png", *res, wo, o.walkC.scene);
         !st)
       return fail(st.error().message);
-    if (auto st = report::writeStrips(wo.outDir, *res); !st) return fail(st.error().message);
+    if (auto st = writeStrips(wo.outDir, *res); !st) return fail(st.error().message);
   }
   if (planned)  // the planner's settings and cost go into the report's summary
-    if (auto st = report::addPlannerToWalkReport(o.walkOut, *planned); !st)
+    if (auto st = addPlannerToWalkReport(o.walkOut, *planned); !st)
       return fail(st.error().message);
   json written = res->report["summary"];  // with the planner's fields once written
   if (!wo.outDir.empty())  // index.html and psnr_along_path.png, from report.json

@@ -61,7 +61,7 @@ constexpr const char* kSweepRowLog = ".sweep-rows.jsonl";
 Result<nlohmann::json> runSweep(const scenes::Scene& scene, const std::string& sceneLabel,
                                 const scenes::CameraPath& path, const SweepOptions& options);
 
-// The sweep as independent cells (for chunked runs, bench/slurm.h): cell
+// The sweep as independent cells (for chunked runs, core/chunked_runs.h): cell
 // order = per τ the LOD runs (five-point, per-axis max, three variants, the
 // gradient variant if tauGradient > 0),
 // then one uniform-tiles cell per τ, then per-pixel. A uniform-tiles cell

@@ -12,15 +12,13 @@
 namespace hw::report {
 
 using nlohmann::json;
-using session::CalibrationWalk;
 
-Status writeVerifyPlot(const std::string& outDir, const session::VerifiedPlan& plan,
-                       int referenceKeyframes, const std::string& referenceLabel) {
+Status writeVerifyPlot(const std::string& outDir, const VerifyPlot& plan) {
   Series planned, guaranteed, reference;
   planned.label = "the round's plan (measured + predicted)";
   guaranteed.label = "guaranteed by measured frames";
   double x = 0;
-  for (const session::VerifyRound& r : plan.rounds) {
+  for (const VerifyRoundPoint& r : plan.rounds) {
     planned.x.push_back(x);
     planned.y.push_back(r.keyframes);
     guaranteed.x.push_back(x);
@@ -28,19 +26,19 @@ Status writeVerifyPlot(const std::string& outDir, const session::VerifiedPlan& p
     x += r.framesMeasured;
   }
   std::vector<Series> series{planned, guaranteed};
-  if (referenceKeyframes > 0 && x > 0) {
-    reference.label = referenceLabel;
+  if (plan.referenceKeyframes > 0 && x > 0) {
+    reference.label = plan.referenceLabel;
     reference.markers = false;
     reference.colour = Rgba8{90, 90, 90, 255};
     reference.x = {0, x};
-    reference.y = {static_cast<double>(referenceKeyframes),
-                   static_cast<double>(referenceKeyframes)};
+    reference.y = {static_cast<double>(plan.referenceKeyframes),
+                   static_cast<double>(plan.referenceKeyframes)};
     series.push_back(reference);
   }
   PlotOptions po;
   char title[200];
   std::snprintf(title, sizeof title, "verified plan: %zu keyframes after %zu rounds%s",
-                plan.keyframes.size(), plan.rounds.size() - 1,
+                plan.keyframes, plan.rounds.size() - 1,
                 plan.guaranteed ? " (median guaranteed)" : " (not guaranteed)");
   po.title = title;
   po.xLabel = "in-between frames measured before the round";
@@ -49,28 +47,24 @@ Status writeVerifyPlot(const std::string& outDir, const session::VerifiedPlan& p
 }
 
 
-Status writeCalibration(const std::string& outDir, const ScheduleCalibration& cal,
-                        const session::PredictorCalibration& fit, session::Predictor predictor,
-                        const std::vector<double>& frameOffsetDb) {
+Status writeCalibration(const std::string& outDir, const CalibrationPlot& cal) {
   std::string csv = "spacing,k0,k1,frame,psnr,predicted,offset\n";
   char line[200];
-  for (std::size_t i = 0; i < cal.samples.size(); ++i) {
-    const auto& s = cal.samples[i];
-    std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f,%.4f\n", cal.spacing[i], s.k0, s.k1,
-                  s.frame, s.psnrDb, i < fit.predictedDb.size() ? fit.predictedDb[i] : std::nan(""),
-                  session::pathOffsetAt(frameOffsetDb, s.frame));
+  for (const CalibrationPoint& s : cal.points) {
+    std::snprintf(line, sizeof line, "%d,%d,%d,%d,%.4f,%.4f,%.4f\n", s.spacing, s.k0, s.k1,
+                  s.frame, s.psnrDb, s.predictedDb, s.offsetDb);
     csv += line;
   }
   if (auto st = writeFileAtomic(outDir + "/calibration.csv", csv); !st) return st;
   std::vector<Series> series;
   double lo = 1e9, hi = -1e9;
-  for (const CalibrationWalk& w : cal.walks) {
+  for (int spacing : cal.walkSpacings) {
     Series s;
-    s.label = "every " + std::to_string(w.spacing) + " frames";
+    s.label = "every " + std::to_string(spacing) + " frames";
     s.lines = false;
-    for (std::size_t i = 0; i < cal.samples.size(); ++i) {
-      if (cal.spacing[i] != w.spacing || i >= fit.predictedDb.size()) continue;
-      const double x = fit.predictedDb[i], y = cal.samples[i].psnrDb;
+    for (const CalibrationPoint& p : cal.points) {
+      if (p.spacing != spacing) continue;
+      const double x = p.predictedDb, y = p.psnrDb;
       if (!std::isfinite(x) || !std::isfinite(y)) continue;
       s.x.push_back(x), s.y.push_back(y);
       lo = std::min({lo, x, y}), hi = std::max({hi, x, y});
@@ -89,7 +83,7 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
   PlotOptions po;
   char title[200];
   std::snprintf(title, sizeof title, "%s refit: residual sd %.2f dB, Spearman %.3f",
-                session::predictorName(predictor), fit.residualStdDb, fit.spearman);
+                cal.predictor.c_str(), cal.residualStdDb, cal.spearman);
   po.title = title;
   po.xLabel = "predicted PSNR of the in-between frame, dB";
   po.yLabel = "measured PSNR, dB";
@@ -97,7 +91,7 @@ Status writeCalibration(const std::string& outDir, const ScheduleCalibration& ca
 }
 
 
-Result<double> writePlannedFrames(const std::string& outDir, const std::vector<PlannedFrame>& planned,
+Result<double> writePlannedFrames(const std::string& outDir, const std::vector<PlannedPoint>& planned,
                                   const json& reportFrames, double targetDb,
                                   const std::vector<int>& keyframes) {
   std::vector<double> measuredAt;  // by frame index; NaN where not in the report
@@ -122,7 +116,7 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
   std::vector<double> predicted;
   int lastFrame = 0;
   for (std::size_t i = 0; i < planned.size(); ++i) {
-    const PlannedFrame& p = planned[i];
+    const PlannedPoint& p = planned[i];
     const double m = static_cast<std::size_t>(p.frame) < measuredAt.size()
                          ? measuredAt[static_cast<std::size_t>(p.frame)]
                          : std::nan("");
@@ -154,20 +148,8 @@ Result<double> writePlannedFrames(const std::string& outDir, const std::vector<P
 }
 
 
-Status writePlannedWalkPlots(const std::string& outDir, const session::PlannedWalk& planned) {
-  if (planned.calibration) {
-    HW_TRY(ensureWritableDir(outDir));
-    HW_TRY(writeCalibration(outDir, *planned.calibration, planned.calibrationFit,
-                            planned.predictor, planned.calibrationOffsetDb));
-  }
-  if (planned.verified)
-    HW_TRY(writeVerifyPlot(outDir, *planned.verified, planned.referenceKeyframes,
-                           planned.referenceLabel));
-  return {};
-}
-
-Status addPlannerToWalkReport(const std::string& outDir, const session::PlannedWalk& planned) {
-  using nlohmann::json;
+Status addPlannerToWalkReport(const std::string& outDir, const std::vector<PlannedPoint>& predicted,
+                              double targetPsnrDb, const json& plannerSummary) {
   const std::string path = outDir + "/report.json";
   auto text = readFile(path);
   if (!text) return text.error();
@@ -175,10 +157,10 @@ Status addPlannerToWalkReport(const std::string& outDir, const session::PlannedW
   if (report.is_discarded()) return makeError("cannot parse " + path);
   report["summary"]["keyframe_schedule"] = "adaptive";
   auto predMedian =
-      writePlannedFrames(outDir, planned.predicted, report["frames"], planned.targetPsnrDb,
+      writePlannedFrames(outDir, predicted, report["frames"], targetPsnrDb,
                          report["summary"]["keyframe_frames"].get<std::vector<int>>());
   if (!predMedian) return predMedian.error();
-  json planner = planned.planner;
+  json planner = plannerSummary;
   planner["predicted_psnr_median"] = std::isfinite(*predMedian) ? json(*predMedian) : json(nullptr);
   report["summary"]["planner"] = planner;
   return writeFileAtomic(path, report.dump(1));

@@ -10,9 +10,7 @@
 
 namespace hw::report {
 
-Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& result,
-                       const session::WalkOptions& opt, const std::string& sceneLabel) {
-  const session::FrameTimes& t = result.frameTimes;
+Status writeFrameTimes(const std::string& pngPath, const FrameTimesData& t, const FrameTimesLook& look) {
   Series work{"warped frame: work (ms.frame)"}, geometry{"frame drawn as geometry: work"},
       built{"frame that built/uploaded a keyframe"},
       key{"keyframe frame"}, reference{"geometry frame, same camera (reference_ms)"},
@@ -34,12 +32,12 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
     const double x = t.frame[i];
     // Warped and geometry frames as lines, each broken where the other
     // kind (or a keyframe frame) sits.
-    const session::FrameKind k = t.kind[i];
+    const DrawnAs k = t.kind[i];
     work.x.push_back(x);
-    work.y.push_back(k == session::FrameKind::Warp ? t.workMs[i] : std::nan(""));
+    work.y.push_back(k == DrawnAs::Warp ? t.workMs[i] : std::nan(""));
     geometry.x.push_back(x);
-    geometry.y.push_back(k == session::FrameKind::Geometry ? t.workMs[i] : std::nan(""));
-    if (k == session::FrameKind::Keyframe) key.x.push_back(x), key.y.push_back(t.workMs[i]);
+    geometry.y.push_back(k == DrawnAs::Geometry ? t.workMs[i] : std::nan(""));
+    if (k == DrawnAs::Keyframe) key.x.push_back(x), key.y.push_back(t.workMs[i]);
     if (t.builtKeyframe[i]) built.x.push_back(x), built.y.push_back(t.workMs[i]);
     reference.x.push_back(x);
     reference.y.push_back(t.referenceMs[i]);
@@ -61,39 +59,31 @@ Status writeFrameTimes(const std::string& pngPath, const session::WalkResult& re
   interval.marker = Marker::kCircle;
   budget.markers = false;
   floor.markers = false;
-  const bool budgetOn = opt.frameBudgetMs > 0 || opt.frameBudgetAuto;
-  char budgetLabel[64] = "";
-  if (opt.frameBudgetAuto)
-    std::snprintf(budgetLabel, sizeof budgetLabel, ", auto budget (p%g of %d frames)",
-                  opt.frameBudgetQuantile * 100, opt.frameBudgetWindow);
-  else if (budgetOn)
-    std::snprintf(budgetLabel, sizeof budgetLabel, ", budget %.1f ms", opt.frameBudgetMs);
   PlotOptions po;
-  po.title = "Frame times: " + sceneLabel + ", mode " + session::frameModeName(opt.mode) +
-             (opt.asyncKeyframes && !opt.keyframeSource ? ", async keyframes" : "") + budgetLabel;
+  po.title = look.title;
   po.xLabel = "frame";
   po.yLabel = "ms (log)";
   po.logY = true;
   po.width = 1000;
   po.height = 480;
   std::vector<Series> series{work, key, built};
-  if (opt.reference) series.push_back(reference);
+  if (look.reference) series.push_back(reference);
   // After the reference, which it equals: drawn on top of it.
   const bool anyGeometry =
-      std::find(t.kind.begin(), t.kind.end(), session::FrameKind::Geometry) != t.kind.end();
+      std::find(t.kind.begin(), t.kind.end(), DrawnAs::Geometry) != t.kind.end();
   if (anyGeometry) series.push_back(geometry);
-  if (budgetOn && opt.paceFrames) series.push_back(interval);
+  if (look.interval) series.push_back(interval);
   if (anyBudget) series.push_back(budget);
   if (!floor.x.empty()) series.push_back(floor);
   return writePlot(pngPath, series, po);
 }
 
-Status writeStrips(const std::string& outDir, const session::WalkResult& result) {
-  const nlohmann::json& info = result.report["summary"]["strips"];
-  constexpr int kGap = 4;  // hstack's gap in session/walk.cpp
+Status writeStrips(const std::string& outDir, const std::vector<Image<Rgba8>>& strips,
+                   const nlohmann::json& info) {
+  constexpr int kGap = 4;  // between the panels
   const Rgba8 kInk{20, 20, 20, 255}, kPaper{255, 255, 255, 255};
-  for (std::size_t s = 0; s < result.strips.size() && s < info.size(); ++s) {
-    const Image<Rgba8>& strip = result.strips[s];
+  for (std::size_t s = 0; s < strips.size() && s < info.size(); ++s) {
+    const Image<Rgba8>& strip = strips[s];
     const int line = captionHeight() + 6;
     Image<Rgba8> out(strip.width(), strip.height() + 2 * line);
     out.fill(kPaper);

@@ -1,4 +1,4 @@
-// libFuzzer target for the AC3D (.ac/.acc) parser (scenes/outdoor_scenes.h):
+// libFuzzer target for the AC3D (.ac/.acc) parser (scenes/ac3d.h):
 // any text must give a model or an error naming the source, never a crash, a
 // hang or memory out of proportion to the input (declared counts allocate
 // nothing by themselves). Accepted geometry has valid indices and materials.
@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "scenes/outdoor_scenes.h"
+#include "scenes/ac3d.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hw::scenes;

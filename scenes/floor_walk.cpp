@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "scenes/outdoor_scenes.h"
+#include "scenes/triangle_grid.h"
 
 namespace hw::scenes {
 

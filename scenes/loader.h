@@ -6,6 +6,7 @@
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
+#include "scenes/default_paths.h"
 #include "scenes/scene.h"
 
 namespace hw::scenes {
@@ -43,17 +44,6 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options 
 // model file. An existing file always wins over a built-in name.
 Result<Scene> loadScene(const std::string& spec);
 
-// Settings of the default paths that the user may change (zero: each kind's own).
-struct DefaultPathOptions {
-  // Speed along a TORCS track's centreline, metres per frame (0: 450 m over
-  // the path's 240 frames, 1.9 m/frame).
-  double metresPerFrame = 0.0;
-  // Eye above the floor or road, in scene units (0: 1.2 m in a TORCS car,
-  // 1.7 m walking a MORSE terrain, scaled from the scene's size in a model
-  // file's fly-through).
-  double eyeHeight = 0.0;
-};
-
 // Default camera path for a spec: the built-in walks for "indoor"/"outdoor",
 // q3 maps through their spawns, TORCS tracks along their centreline, MORSE
 // terrains on foot; a model file is walked over its floor at eye height
@@ -64,9 +54,5 @@ struct DefaultPathOptions {
 Result<CameraPath> defaultPathFor(const std::string& spec);
 Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOptions& options,
                                   std::vector<std::string>* notes);
-
-// A closed loop of 8 keys inside the scene's bounds at mid height, looking at
-// the centre; near/far from the bounds' diagonal. 512×512, fov 60°, 120 frames.
-CameraPath flythroughPathFor(const Scene& scene);
 
 }  // namespace hw::scenes

@@ -22,8 +22,8 @@
 #include <unordered_map>
 
 #include "core/file_io.h"
-#include "scenes/loader.h"  // flythroughPathFor
-#include "scenes/outdoor_scenes.h"  // TriangleGrid
+#include "scenes/default_paths.h"
+#include "scenes/triangle_grid.h"
 
 namespace hw::scenes {
 namespace {

@@ -16,6 +16,7 @@
 #include <unordered_set>
 
 #include "core/file_io.h"
+#include "scenes/triangle_grid.h"
 
 namespace hw::scenes {
 namespace {

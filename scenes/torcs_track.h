@@ -15,7 +15,7 @@
 
 #include "core/result.h"
 #include "scenes/camera_path.h"
-#include "scenes/outdoor_scenes.h"
+#include "scenes/torcs_road.h"
 
 namespace hw::scenes {
 

@@ -40,7 +40,7 @@ Result<std::vector<keyframe::KeyframeDbEntry>> bakeKeyframes(const scenes::Scene
 // What a bake does in its output folder (held by this run, core/output_dir.h).
 enum class BakeStart {
   Fresh,     // bake every keyframe
-  Resume,    // rerun the chunks an interrupted run left (bench/slurm.h)
+  Resume,    // rerun the chunks an interrupted run left (core/chunked_runs.h)
   Complete,  // --resume on a finished database of this very bake: nothing to do
 };
 // Without `resume`: removes the earlier database the folder's index.json lists

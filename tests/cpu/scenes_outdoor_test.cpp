@@ -17,6 +17,7 @@
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/outdoor_scenes.h"
+#include "scenes/sgi_image.h"
 #include "scenes/q3bsp.h"
 
 namespace hw::scenes {

@@ -10,7 +10,7 @@
 
 #include "core/result.h"
 
-namespace hw::bench {
+namespace hw {
 
 struct DistributeOptions {
   bool slurm = false;   // sbatch --array; else local worker processes
@@ -58,4 +58,4 @@ std::vector<std::string> chunkCommand(int argc, char** argv);
 // Removes workDir after a successful merge.
 void removeChunkDir(const std::string& workDir);
 
-}  // namespace hw::bench
+}  // namespace hw

@@ -1,4 +1,4 @@
-#include "bench/slurm.h"
+#include "core/chunked_runs.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -26,7 +26,7 @@
 
 extern char** environ;
 
-namespace hw::bench {
+namespace hw {
 namespace {
 
 namespace fs = std::filesystem;
@@ -481,4 +481,4 @@ void removeChunkDir(const std::string& workDir) {
   fs::remove_all(workDir, ec);
 }
 
-}  // namespace hw::bench
+}  // namespace hw
