@@ -28,9 +28,11 @@
 
 #include "core/file_io.h"
 #include "core/json_guard.h"
+#include "core/memory_budget.h"
 #include "core/safe_io.h"
 #include "scenes/fetch.h"
 #include "scenes/floor_walk.h"
+#include "scenes/obj_prescan.h"
 #include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
@@ -580,6 +582,22 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     }
     if (ext == ".ply") HW_TRY(checkPly(path));
     if (ext == ".gltf" || ext == ".glb") HW_TRY(prescanGltf(path, ext));
+    // Assimp's OBJ import needs far more than the file's size: charge its
+    // peak (counted from the text) before it starts, give it back after.
+    std::uint64_t importCharge = 0;
+    if (ext == ".obj") {
+      auto counts = countObjElements(path);
+      if (!counts) return counts.error();
+      importCharge = objImportBytes(*counts);
+      HW_TRY(chargeMemory(importCharge,
+                          path + ": importing " + std::to_string(counts->faces) + " faces (" +
+                              std::to_string(counts->references) + " vertex references) needs about",
+                          "--max-memory raises it"));
+    }
+    struct Release {
+      std::uint64_t bytes;
+      ~Release() { releaseMemory(bytes); }
+    } releaseImport{importCharge};
     fs::path root = fs::weakly_canonical(fs::absolute(path, ec), ec).parent_path();
     auto* io = new ConfinedIOSystem(root, options.allowExternalRefs);
     importer.SetIOHandler(io);  // the importer owns it
@@ -658,6 +676,11 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     if (scene.meshes.empty()) return makeError(path + ": contains no triangle meshes");
     scene.computeBounds();
     return scene;
+  } catch (const std::bad_alloc&) {
+    return makeError(path + ": out of memory while reading the model (" +
+                     formatBytes(memoryCharged()) + " charged to the " +
+                     formatBytes(memoryBudget()) + " budget); --max-memory lowers the budget so "
+                     "such a model is refused before it is read");
   } catch (const std::exception& e) {
     return makeError(path + ": cannot read model: " + e.what());
   } catch (...) {
@@ -685,7 +708,8 @@ Result<Q3Map> loadQ3Spec(const std::string& mapName) {
 
 }  // namespace
 
-Result<Scene> loadScene(const std::string& spec) {
+namespace {
+Result<Scene> loadSceneUnscoped(const std::string& spec) {
   std::error_code ec;
   if (auto outdoor = loadOutdoorSpec(spec)) return std::move(*outdoor);  // .acc, .blend, torcs:, morse:
   if (!spec.empty() && fs::exists(spec, ec)) return loadSceneFile(spec);
@@ -702,6 +726,29 @@ Result<Scene> loadScene(const std::string& spec) {
   }
   return makeError("scene '" + spec + "': no such file and not a built-in scene (" + kBuiltinHelp +
                    ")");
+}
+}  // namespace
+
+Result<Scene> loadScene(const std::string& spec) {
+  MemoryScope scope;  // what the load charges is held by the scene, or given back
+  try {
+    auto s = loadSceneUnscoped(spec);
+    if (!scope.refused().empty()) return makeError(scope.refused());
+    if (!s) return s;
+    // The meshes, once loaded: the renderer uploads a copy of them.
+    std::uint64_t meshBytes = 0;
+    for (const Mesh& m : s->meshes)
+      meshBytes += m.vertices.size() * sizeof(Vertex) + m.indices.size() * sizeof(m.indices[0]);
+    HW_TRY(chargeMemory(meshBytes, "scene " + spec + ": meshes of " +
+                                       std::to_string(s->triangleCount()) + " triangles",
+                        "--max-memory raises it"));
+    s->memory = scope.keep();
+    return s;
+  } catch (const std::bad_alloc&) {
+    return makeError("scene '" + spec + "': out of memory while loading (" +
+                     formatBytes(memoryCharged()) + " charged to the " +
+                     formatBytes(memoryBudget()) + " memory budget; --max-memory)");
+  }
 }
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {
