@@ -357,6 +357,24 @@ int runInOutputDir(const CLI::App* c, const std::string& dir,
   return code;
 }
 
+void addMaxMemoryOption(CLI::App* c) {
+  c->add_option_function<std::string>(
+       "--max-memory",
+       [](const std::string& v) {
+         if (auto b = parseMemorySize(v)) setMemoryBudget(*b);
+       },
+       "Memory budget of the run for decoded textures and imported meshes, e.g. 4G or 512M "
+       "(default 40% of the least of physical memory, the cgroup limit and ulimit -v); what "
+       "would pass it is refused before it is read")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            auto b = parseMemorySize(v);
+            return b ? std::string() : b.error().message;
+          },
+          "", "memory size"))
+      ->type_name("SIZE");
+}
+
 void addCommon(CLI::App* c, Common& o) {
   addGlOptions(c);
   addScenePath(c, o);
@@ -385,20 +403,7 @@ void addCommon(CLI::App* c, Common& o) {
        "Scene textures with a side above this are downscaled (with a warning); images over "
        "max(8192, this)^2 pixels are not decoded (default 8192)")
       ->check(CLI::Range(16, 65536));
-  c->add_option_function<std::string>(
-       "--max-memory",
-       [](const std::string& v) {
-         if (auto b = parseMemorySize(v)) setMemoryBudget(*b);
-       },
-       "Memory budget of the run for decoded textures and imported meshes, e.g. 4G or 512M "
-       "(default 40% of the least of physical memory, the cgroup limit and ulimit -v); what "
-       "would pass it is refused before it is read")
-      ->check(CLI::Validator(
-          [](std::string& v) -> std::string {
-            auto b = parseMemorySize(v);
-            return b ? std::string() : b.error().message;
-          },
-          "SIZE", "memory size"));
+  addMaxMemoryOption(c);
   const CLI::Validator size(
       [](std::string& v) -> std::string {
         char* end = nullptr;
