@@ -65,15 +65,27 @@ class ConfinedIOSystem : public Assimp::DefaultIOSystem {
   ConfinedIOSystem(fs::path root, bool allowExternal)
       : root_(std::move(root)), allowExternal_(allowExternal) {}
   bool Exists(const char* file) const override {
-    return allowed(file) && DefaultIOSystem::Exists(file);
+    const std::string f = resolve(file);
+    return allowed(f.c_str()) && DefaultIOSystem::Exists(f.c_str());
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (!allowed(file)) return nullptr;
-    return DefaultIOSystem::Open(file, mode);
+    const std::string f = resolve(file);
+    if (!allowed(f.c_str())) return nullptr;
+    return DefaultIOSystem::Open(f.c_str(), mode);
   }
   const std::string& refused() const { return refused_; }
 
  private:
+  // Some importers (LWS, Ogre) pass a referenced name as written, which the
+  // default file system would look up in the working directory: a relative
+  // name not found there is looked up beside the model.
+  std::string resolve(const char* file) const {
+    std::error_code ec;
+    const fs::path p(file);
+    if (p.is_absolute() || fs::exists(p, ec)) return file;
+    const fs::path beside = root_ / p;
+    return fs::exists(beside, ec) ? beside.string() : std::string(file);
+  }
   bool allowed(const char* file) const {
     struct stat st {};
     if (::stat(file, &st) == 0 && !S_ISREG(st.st_mode)) {
@@ -100,7 +112,18 @@ Status checkGltfJson(std::string_view text, const std::string& path) {
   HW_TRY(checkJsonNesting(text, path));
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return {};  // not JSON: Assimp's reader says what is wrong
-  if (!j.is_object() || !j.contains("bufferViews")) return {};
+  if (!j.is_object()) return {};
+  // glTF 1.0: objects keyed by name where 2.0 has arrays, and no version 2.
+  const nlohmann::json* version =
+      j.contains("asset") && j["asset"].is_object() && j["asset"].contains("version")
+          ? &j["asset"]["version"]
+          : nullptr;
+  const bool v1 = version ? version->is_string() && version->get<std::string>().rfind("1", 0) == 0
+                          : j.contains("bufferViews") && j["bufferViews"].is_object();
+  if (v1)
+    return makeError(path + ": glTF 1.0 is not supported (expected glTF 2.0, asset.version \"2.0\"; "
+                            "convert it, e.g. with Blender or gltf-pipeline)");
+  if (!j.contains("bufferViews")) return {};
   const nlohmann::json& views = j["bufferViews"];
   const nlohmann::json* buffers = j.contains("buffers") ? &j["buffers"] : nullptr;
   if (!views.is_array()) return makeError(path + ": bufferViews: expected an array");
@@ -147,6 +170,9 @@ Status prescanGltf(const std::string& path, const std::string& ext) {
   if (b.size() < 20 || b.compare(0, 4, "glTF") != 0)
     return makeError(path + ": not a binary glTF file (expected the magic 'glTF' and a 20-byte "
                             "header, got " + std::to_string(b.size()) + " bytes)");
+  if (u32(4) == 1)
+    return makeError(path + ": glTF 1.0 is not supported (binary glTF version 1; expected "
+                            "version 2, glTF 2.0)");
   const std::uint64_t total = u32(8), chunk0 = u32(12);
   if (total > b.size())
     return makeError(path + ": header declares " + std::to_string(total) +
@@ -585,9 +611,19 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     // Assimp's OBJ import needs far more than the file's size: charge its
     // peak (counted from the text) before it starts, give it back after.
     std::uint64_t importCharge = 0;
+    std::vector<std::string> objWarnings;
     if (ext == ".obj") {
       auto counts = countObjElements(path);
       if (!counts) return counts.error();
+      // Assimp skips a material library it cannot open without a word.
+      for (const std::string& lib : counts->mtllibs) {
+        const fs::path p = fs::path(lib).is_absolute() ? fs::path(lib) : fs::path(path).parent_path() / lib;
+        if (fs::equivalent(p, path, ec))
+          return makeError(path + ": mtllib '" + lib + "' names the model itself (expected a .mtl file)");
+        if (!fs::exists(p, ec))
+          objWarnings.push_back(path + ": mtllib '" + lib + "' not found (looked for " + p.string() +
+                                "); its materials are drawn in the default grey");
+      }
       importCharge = objImportBytes(*counts);
       HW_TRY(chargeMemory(importCharge,
                           path + ": importing " + std::to_string(counts->faces) + " faces (" +
@@ -612,6 +648,9 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
       return makeError(path + ": the model references " + io->refused());
     if (!ai) {
       const std::string why = importer.GetErrorString();
+      if (why.find("No meshes remaining") != std::string::npos)
+        return makeError(path + ": contains no triangle meshes (only points or lines, which are "
+                                "not drawn; expected faces)");
       if (why.find("mNumMeshes is 0") != std::string::npos)
         return makeError(path + ": contains no meshes (or is not a valid " + ext + " file)");
       return makeError(path + ": cannot read model: " + why);
@@ -622,6 +661,7 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
 
     Scene scene;
     scene.name = fs::path(path).stem().string();
+    scene.warnings = objWarnings;
     TextureCache cache{&scene, ai, fs::path(path).parent_path(), path, {},
                        options.allowExternalRefs ? fs::path() : root, {}};
     if (cache.folder.empty()) cache.folder = ".";

@@ -5,6 +5,7 @@
 // references, not with the file size (8 bytes of "f 1 2 3" cost ~200).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 
@@ -14,6 +15,7 @@ struct ObjCounts {
   std::uint64_t vertices = 0;    // "v" lines
   std::uint64_t faces = 0;       // "f" lines
   std::uint64_t references = 0;  // vertex references on "f" lines
+  std::vector<std::string> mtllibs;  // "mtllib NAME" names as written (at most 16 kept)
 };
 
 // One pass over the file in 1 MiB blocks (no line is held whole).
