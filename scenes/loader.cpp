@@ -740,6 +740,8 @@ std::optional<std::string> q3MapName(const std::string& spec) {
 Result<Q3Map> loadQ3Spec(const std::string& mapName) {
   Q3Options o;
   o.pk3Paths = defaultPk3Paths();
+  if (const std::string why = pk3SearchProblems(); o.pk3Paths.empty() && !why.empty())
+    return makeError("scene 'q3:" + mapName + "': " + why + " (expected a folder holding .pk3 files)");
   if (o.pk3Paths.empty())
     return makeError("scene 'q3:" + mapName + "': no .pk3 files in " + defaultSceneCacheDir() +
                      "/root or $HYBRIDWALK_PK3_DIR (run `hybridwalk scenes fetch` first)");

@@ -225,6 +225,9 @@ printf 'mtllib tex_up.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/
 printf 'newmtl m\nKd 1 1 1\nmap_Kd ../outside.png\n' >"$tmp/model/tex_up.mtl"
 printf 'mtllib tex_big.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_big.obj"
 printf 'newmtl m\nKd 1 1 1\nmap_Kd big.png\n' >"$tmp/model/tex_big.mtl"
+printf 'not a folder\n' >"$tmp/a_file"
+ln -s loop_b "$tmp/loop_a"
+ln -s loop_a "$tmp/loop_b"
 printf 'mtllib mtl_self.obj\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/model/mtl_self.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n' >"$tmp/lines_only.obj"
 printf '{"asset": {"version": "1.0"}, "bufferViews": {"v": {"buffer": "b", "byteLength": 36}}}' \
