@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/memory_budget.h"
 #include "core/safe_io.h"
 #include "core/timer.h"
 #include "scenes/catalogue.h"
@@ -356,6 +357,24 @@ int runInOutputDir(const CLI::App* c, const std::string& dir,
   return code;
 }
 
+void addMaxMemoryOption(CLI::App* c) {
+  c->add_option_function<std::string>(
+       "--max-memory",
+       [](const std::string& v) {
+         if (auto b = parseMemorySize(v)) setMemoryBudget(*b);
+       },
+       "Memory budget of the run for decoded textures and imported meshes, e.g. 4G or 512M "
+       "(default 40% of the least of physical memory, the cgroup limit and ulimit -v); what "
+       "would pass it is refused before it is read")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            auto b = parseMemorySize(v);
+            return b ? std::string() : b.error().message;
+          },
+          "", "memory size"))
+      ->type_name("SIZE");
+}
+
 void addCommon(CLI::App* c, Common& o) {
   addGlOptions(c);
   addScenePath(c, o);
@@ -387,6 +406,7 @@ void addCommon(CLI::App* c, Common& o) {
        "max(8192, this)^2 pixels are not decoded")
       ->check(CLI::Range(16, 65536))
       ->default_str(std::to_string(maxTextureSize()));
+  addMaxMemoryOption(c);
   const CLI::Validator size(
       [](std::string& v) -> std::string {
         char* end = nullptr;

@@ -127,6 +127,8 @@ void addGlOptions(CLI::App* c);
 // --force on `c` (docs/output-folders.md): write into an output folder that is
 // not empty and not hybridwalk's, owned by another command, or a symlink.
 void addForceOption(CLI::App* c);
+// --max-memory SIZE: the run's memory budget (core/memory_budget.h); part of addCommon.
+void addMaxMemoryOption(CLI::App* c);
 // Claims the output folder `dir` for the command `c` for the whole run
 // (core/output_dir.h), with --force if `c` has it and it was given.
 // `summaries`: files that describe the others (report.json), removed unless

@@ -149,6 +149,7 @@ void addViewCommand(CLI::App& app, Commands& commands) {
                   app::viewerKeyLine());
   PresetCli& pc = o.presetCli;
   addScenePath(viewCmd, o.viewC);
+  addMaxMemoryOption(viewCmd);
   viewCmd->add_flag("--play", o.vo.play,
                     "Replay the camera path (--path, or the scene's default), one path frame per "
                     "frame, looping; any move takes over");

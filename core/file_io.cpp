@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/memory_budget.h"
 #include "core/safe_io.h"
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -202,8 +203,17 @@ Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const st
                      formatBytes(pixels * 4) + " decoded), over the decode budget of " +
                      std::to_string(budgetSide) + "x" + std::to_string(budgetSide) +
                      " pixels (--max-texture-size raises it); not decoded");
+  // The full-size decode is charged before it is allocated; what the
+  // downscale does not keep is given back.
+  const std::uint64_t decodedBytes = pixels * 4;
+  HW_TRY(chargeMemory(decodedBytes, what + ": texture " + std::to_string(w) + "x" +
+                                        std::to_string(h) + " decoded",
+                      "--max-memory raises it, --max-texture-size lowers what is kept"));
   stbi_uc* px = stbi_load_from_memory(b, static_cast<int>(size), &w, &h, &comp, 4);
-  if (!px) return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  if (!px) {
+    releaseMemory(decodedBytes);
+    return makeError("cannot decode image " + what + ": " + stbi_failure_reason());
+  }
   const int f = std::max(1, (std::max(w, h) + gMaxTextureSize - 1) / gMaxTextureSize);
   const int ow = std::max(1, w / f), oh = std::max(1, h / f);
   Image<Rgba8> img(ow, oh);
@@ -230,6 +240,7 @@ Result<Image<Rgba8>> decodeTexture(const void* bytes, std::size_t size, const st
                  " (--max-texture-size " + std::to_string(gMaxTextureSize) + ")";
   }
   stbi_image_free(px);
+  releaseMemory(decodedBytes - static_cast<std::uint64_t>(ow) * static_cast<std::uint64_t>(oh) * 4);
   return img;
 }
 

@@ -244,4 +244,37 @@ std::vector<std::string> defaultPk3Paths(const std::string& cacheDir) {
   return out;
 }
 
+namespace {
+// "" for a folder or a path that does not exist; else what it is.
+std::string notAFolder(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) return "";
+    return S_ISREG(st.st_mode) ? "a file, not a folder" : "not a folder";
+  }
+  if (errno == ELOOP) return "a symlink loop";
+  if (errno == ENOENT) return "";
+  return std::string("not readable: ") + std::strerror(errno);
+}
+}  // namespace
+
+std::string pk3SearchProblems() {
+  std::string out;
+  auto add = [&](const std::string& var, const std::string& path) {
+    const std::string why = notAFolder(path);
+    if (!why.empty()) out += (out.empty() ? "" : "; ") + var + " names " + path + ", which is " + why;
+  };
+  if (const char* c = std::getenv("HYBRIDWALK_CACHE"); c && *c) add("$HYBRIDWALK_CACHE", c);
+  if (const char* extra = std::getenv("HYBRIDWALK_PK3_DIR"); extra && *extra) {
+    const std::string s(extra);
+    std::size_t start = 0;
+    while (start <= s.size()) {
+      const std::size_t end = std::min(s.find(':', start), s.size());
+      if (end > start) add("$HYBRIDWALK_PK3_DIR", s.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  return out;
+}
+
 }  // namespace hw::scenes

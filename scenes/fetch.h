@@ -39,5 +39,9 @@ std::vector<std::string> findPk3s(const std::string& dir);
 // The pk3s for q3: scenes: findPk3s(cacheDir/root), then those of each folder
 // in $HYBRIDWALK_PK3_DIR (':'-separated), which therefore override them.
 std::vector<std::string> defaultPk3Paths(const std::string& cacheDir = defaultSceneCacheDir());
+// Why the folders above cannot be searched: $HYBRIDWALK_CACHE or an entry of
+// $HYBRIDWALK_PK3_DIR that exists but is a file, a symlink loop or otherwise
+// not a folder ("" when each is a folder or absent).
+std::string pk3SearchProblems();
 
 }  // namespace hw::scenes

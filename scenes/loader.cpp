@@ -28,9 +28,11 @@
 
 #include "core/file_io.h"
 #include "core/json_guard.h"
+#include "core/memory_budget.h"
 #include "core/safe_io.h"
 #include "scenes/fetch.h"
 #include "scenes/floor_walk.h"
+#include "scenes/obj_prescan.h"
 #include "scenes/outdoor_scenes.h"
 #include "scenes/procedural.h"
 #include "scenes/q3bsp.h"
@@ -63,15 +65,27 @@ class ConfinedIOSystem : public Assimp::DefaultIOSystem {
   ConfinedIOSystem(fs::path root, bool allowExternal)
       : root_(std::move(root)), allowExternal_(allowExternal) {}
   bool Exists(const char* file) const override {
-    return allowed(file) && DefaultIOSystem::Exists(file);
+    const std::string f = resolve(file);
+    return allowed(f.c_str()) && DefaultIOSystem::Exists(f.c_str());
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (!allowed(file)) return nullptr;
-    return DefaultIOSystem::Open(file, mode);
+    const std::string f = resolve(file);
+    if (!allowed(f.c_str())) return nullptr;
+    return DefaultIOSystem::Open(f.c_str(), mode);
   }
   const std::string& refused() const { return refused_; }
 
  private:
+  // Some importers (LWS, Ogre) pass a referenced name as written, which the
+  // default file system would look up in the working directory: a relative
+  // name not found there is looked up beside the model.
+  std::string resolve(const char* file) const {
+    std::error_code ec;
+    const fs::path p(file);
+    if (p.is_absolute() || fs::exists(p, ec)) return file;
+    const fs::path beside = root_ / p;
+    return fs::exists(beside, ec) ? beside.string() : std::string(file);
+  }
   bool allowed(const char* file) const {
     struct stat st {};
     if (::stat(file, &st) == 0 && !S_ISREG(st.st_mode)) {
@@ -98,7 +112,18 @@ Status checkGltfJson(std::string_view text, const std::string& path) {
   HW_TRY(checkJsonNesting(text, path));
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return {};  // not JSON: Assimp's reader says what is wrong
-  if (!j.is_object() || !j.contains("bufferViews")) return {};
+  if (!j.is_object()) return {};
+  // glTF 1.0: objects keyed by name where 2.0 has arrays, and no version 2.
+  const nlohmann::json* version =
+      j.contains("asset") && j["asset"].is_object() && j["asset"].contains("version")
+          ? &j["asset"]["version"]
+          : nullptr;
+  const bool v1 = version ? version->is_string() && version->get<std::string>().rfind("1", 0) == 0
+                          : j.contains("bufferViews") && j["bufferViews"].is_object();
+  if (v1)
+    return makeError(path + ": glTF 1.0 is not supported (expected glTF 2.0, asset.version \"2.0\"; "
+                            "convert it, e.g. with Blender or gltf-pipeline)");
+  if (!j.contains("bufferViews")) return {};
   const nlohmann::json& views = j["bufferViews"];
   const nlohmann::json* buffers = j.contains("buffers") ? &j["buffers"] : nullptr;
   if (!views.is_array()) return makeError(path + ": bufferViews: expected an array");
@@ -145,6 +170,9 @@ Status prescanGltf(const std::string& path, const std::string& ext) {
   if (b.size() < 20 || b.compare(0, 4, "glTF") != 0)
     return makeError(path + ": not a binary glTF file (expected the magic 'glTF' and a 20-byte "
                             "header, got " + std::to_string(b.size()) + " bytes)");
+  if (u32(4) == 1)
+    return makeError(path + ": glTF 1.0 is not supported (binary glTF version 1; expected "
+                            "version 2, glTF 2.0)");
   const std::uint64_t total = u32(8), chunk0 = u32(12);
   if (total > b.size())
     return makeError(path + ": header declares " + std::to_string(total) +
@@ -580,6 +608,32 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     }
     if (ext == ".ply") HW_TRY(checkPly(path));
     if (ext == ".gltf" || ext == ".glb") HW_TRY(prescanGltf(path, ext));
+    // Assimp's OBJ import needs far more than the file's size: charge its
+    // peak (counted from the text) before it starts, give it back after.
+    std::uint64_t importCharge = 0;
+    std::vector<std::string> objWarnings;
+    if (ext == ".obj") {
+      auto counts = countObjElements(path);
+      if (!counts) return counts.error();
+      // Assimp skips a material library it cannot open without a word.
+      for (const std::string& lib : counts->mtllibs) {
+        const fs::path p = fs::path(lib).is_absolute() ? fs::path(lib) : fs::path(path).parent_path() / lib;
+        if (fs::equivalent(p, path, ec))
+          return makeError(path + ": mtllib '" + lib + "' names the model itself (expected a .mtl file)");
+        if (!fs::exists(p, ec))
+          objWarnings.push_back(path + ": mtllib '" + lib + "' not found (looked for " + p.string() +
+                                "); its materials are drawn in the default grey");
+      }
+      importCharge = objImportBytes(*counts);
+      HW_TRY(chargeMemory(importCharge,
+                          path + ": importing " + std::to_string(counts->faces) + " faces (" +
+                              std::to_string(counts->references) + " vertex references) needs about",
+                          "--max-memory raises it"));
+    }
+    struct Release {
+      std::uint64_t bytes;
+      ~Release() { releaseMemory(bytes); }
+    } releaseImport{importCharge};
     fs::path root = fs::weakly_canonical(fs::absolute(path, ec), ec).parent_path();
     auto* io = new ConfinedIOSystem(root, options.allowExternalRefs);
     importer.SetIOHandler(io);  // the importer owns it
@@ -594,6 +648,9 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
       return makeError(path + ": the model references " + io->refused());
     if (!ai) {
       const std::string why = importer.GetErrorString();
+      if (why.find("No meshes remaining") != std::string::npos)
+        return makeError(path + ": contains no triangle meshes (only points or lines, which are "
+                                "not drawn; expected faces)");
       if (why.find("mNumMeshes is 0") != std::string::npos)
         return makeError(path + ": contains no meshes (or is not a valid " + ext + " file)");
       return makeError(path + ": cannot read model: " + why);
@@ -604,6 +661,7 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
 
     Scene scene;
     scene.name = fs::path(path).stem().string();
+    scene.warnings = objWarnings;
     TextureCache cache{&scene, ai, fs::path(path).parent_path(), path, {},
                        options.allowExternalRefs ? fs::path() : root, {}};
     if (cache.folder.empty()) cache.folder = ".";
@@ -658,6 +716,11 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
     if (scene.meshes.empty()) return makeError(path + ": contains no triangle meshes");
     scene.computeBounds();
     return scene;
+  } catch (const std::bad_alloc&) {
+    return makeError(path + ": out of memory while reading the model (" +
+                     formatBytes(memoryCharged()) + " charged to the " +
+                     formatBytes(memoryBudget()) + " budget); --max-memory lowers the budget so "
+                     "such a model is refused before it is read");
   } catch (const std::exception& e) {
     return makeError(path + ": cannot read model: " + e.what());
   } catch (...) {
@@ -677,6 +740,8 @@ std::optional<std::string> q3MapName(const std::string& spec) {
 Result<Q3Map> loadQ3Spec(const std::string& mapName) {
   Q3Options o;
   o.pk3Paths = defaultPk3Paths();
+  if (const std::string why = pk3SearchProblems(); o.pk3Paths.empty() && !why.empty())
+    return makeError("scene 'q3:" + mapName + "': " + why + " (expected a folder holding .pk3 files)");
   if (o.pk3Paths.empty())
     return makeError("scene 'q3:" + mapName + "': no .pk3 files in " + defaultSceneCacheDir() +
                      "/root or $HYBRIDWALK_PK3_DIR (run `hybridwalk scenes fetch` first)");
@@ -685,7 +750,8 @@ Result<Q3Map> loadQ3Spec(const std::string& mapName) {
 
 }  // namespace
 
-Result<Scene> loadScene(const std::string& spec) {
+namespace {
+Result<Scene> loadSceneUnscoped(const std::string& spec) {
   std::error_code ec;
   if (auto outdoor = loadOutdoorSpec(spec)) return std::move(*outdoor);  // .acc, .blend, torcs:, morse:
   if (!spec.empty() && fs::exists(spec, ec)) return loadSceneFile(spec);
@@ -702,6 +768,29 @@ Result<Scene> loadScene(const std::string& spec) {
   }
   return makeError("scene '" + spec + "': no such file and not a built-in scene (" + kBuiltinHelp +
                    ")");
+}
+}  // namespace
+
+Result<Scene> loadScene(const std::string& spec) {
+  MemoryScope scope;  // what the load charges is held by the scene, or given back
+  try {
+    auto s = loadSceneUnscoped(spec);
+    if (!scope.refused().empty()) return makeError(scope.refused());
+    if (!s) return s;
+    // The meshes, once loaded: the renderer uploads a copy of them.
+    std::uint64_t meshBytes = 0;
+    for (const Mesh& m : s->meshes)
+      meshBytes += m.vertices.size() * sizeof(Vertex) + m.indices.size() * sizeof(m.indices[0]);
+    HW_TRY(chargeMemory(meshBytes, "scene " + spec + ": meshes of " +
+                                       std::to_string(s->triangleCount()) + " triangles",
+                        "--max-memory raises it"));
+    s->memory = scope.keep();
+    return s;
+  } catch (const std::bad_alloc&) {
+    return makeError("scene '" + spec + "': out of memory while loading (" +
+                     formatBytes(memoryCharged()) + " charged to the " +
+                     formatBytes(memoryBudget()) + " memory budget; --max-memory)");
+  }
 }
 
 Result<CameraPath> defaultPathFor(const std::string& spec) {

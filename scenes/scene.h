@@ -3,12 +3,14 @@
 // Built procedurally (procedural.h) or loaded from files (loader.h).
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "core/image.h"
+#include "core/memory_budget.h"
 
 namespace hw::scenes {
 
@@ -57,6 +59,8 @@ struct Scene {
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
   glm::vec3 skyColour{0.55f, 0.70f, 0.90f};  // clear colour where nothing is drawn
   std::vector<std::string> warnings;  // non-fatal load problems (e.g. a texture replaced)
+  // What loading charged to the run's memory budget, given back with the scene.
+  std::shared_ptr<MemoryReservation> memory;
 
   std::size_t triangleCount() const;
   void computeBounds();  // from the meshes' bounds (calls Mesh::computeBounds)

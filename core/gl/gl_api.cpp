@@ -77,6 +77,7 @@ Status checkGlError(const char* where) {
     char buf[16];
     std::snprintf(buf, sizeof buf, "0x%04x", e);
     errs += std::string(errs.empty() ? "" : " ") + buf;
+    if (e == GL_OUT_OF_MEMORY) errs += " (out of memory; --max-memory refuses such input before it is uploaded)";
   }
   if (errs.empty()) return {};
   return makeError(std::string("OpenGL error in ") + where + ": " + errs);

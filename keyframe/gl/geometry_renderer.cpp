@@ -529,7 +529,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
 Result<std::unique_ptr<GeometryRenderer>> GeometryRenderer::create(const scenes::Scene& scene,
                                                                    const RenderOptions& options) {
   auto r = std::make_unique<GlGeometryRenderer>();
-  HW_TRY(r->init(scene, options));
+  // Name the scene: an upload that runs out of GPU (or llvmpipe) memory
+  // otherwise says only which GL call failed.
+  if (Status ok = r->init(scene, options); !ok)
+    return makeError("scene " + scene.name + " (" + std::to_string(scene.triangleCount()) +
+                     " triangles, " + std::to_string(scene.textures.size()) +
+                     " textures): " + ok.error().message);
   return std::unique_ptr<GeometryRenderer>(std::move(r));
 }
 

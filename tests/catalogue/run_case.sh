@@ -223,6 +223,18 @@ printf 'mtllib tex_abs.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2
 printf 'newmtl m\nKd 1 1 1\nmap_Kd %s/outside.png\n' "$tmp" >"$tmp/model/tex_abs.mtl"
 printf 'mtllib tex_up.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_up.obj"
 printf 'newmtl m\nKd 1 1 1\nmap_Kd ../outside.png\n' >"$tmp/model/tex_up.mtl"
+printf 'mtllib tex_big.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >"$tmp/model/tex_big.obj"
+printf 'newmtl m\nKd 1 1 1\nmap_Kd big.png\n' >"$tmp/model/tex_big.mtl"
+printf 'not a folder\n' >"$tmp/a_file"
+ln -s loop_b "$tmp/loop_a"
+ln -s loop_a "$tmp/loop_b"
+printf 'mtllib mtl_self.obj\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/model/mtl_self.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n' >"$tmp/lines_only.obj"
+printf '{"asset": {"version": "1.0"}, "bufferViews": {"v": {"buffer": "b", "byteLength": 36}}}' \
+  >"$tmp/v1.gltf"
+printf 'glTF\001\000\000\000\030\000\000\000\004\000\000\000JSON{}  ' >"$tmp/v1.glb"
+awk 'BEGIN { print "v 0 0 0\nv 1 0 0\nv 0 1 0"; for (i = 0; i < 20000; i++) print "f 1 2 3" }' \
+  >"$tmp/faces20k.obj"
 python3 - "$tmp" <<'EOF' || { echo "FAIL $id: python3 is needed to write the hostile fixtures"; exit 1; }
 import base64, json, os, socket, struct, sys, zlib
 t = sys.argv[1]
@@ -244,6 +256,8 @@ png(t + '/huge.png', 12000, 12000, idat=zlib.compress(b'\0' * 1000))
 # Past stb_image's own limits (2^30 bytes decoded, 2^24 a side): named as sizes too.
 png(t + '/huge30k.png', 30000, 30000, idat=zlib.compress(b'\0' * 1000))
 png(t + '/huge64k.png', 65536, 65536, idat=zlib.compress(b'\0' * 1000))
+# 1024x1024 of zeros (4 MiB decoded): over a 3 MiB --max-memory.
+png(t + '/model/big.png', 1024, 1024, idat=zlib.compress(b'\0' * (1 + 1024 * 3) * 1024))
 s = socket.socket(socket.AF_UNIX)
 s.bind(t + '/sock.png')
 s.close()
