@@ -384,8 +384,10 @@ Result<std::vector<Q3Spawn>> parseQ3Spawns(std::string_view entities, const std:
   return spawns;
 }
 
-Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
-                         const Q3TextureResolver& resolve, const Q3Options& options) {
+namespace {
+
+// The header's magic and version.
+Status checkBspHeader(std::string_view bytes, const std::string& source) {
   if (bytes.size() < kHeaderBytes)
     return makeError(source + ": not a Quake 3 BSP: expected at least " +
                      std::to_string(kHeaderBytes) + " header bytes, got " +
@@ -397,7 +399,15 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
   if (version != kBspVersion)
     return makeError(source + ": unsupported BSP version: expected " + std::to_string(kBspVersion) +
                      " (Quake 3 / OpenArena), got " + std::to_string(version));
+  return {};
+}
 
+// The lumps a map is built from, each checked against the file's size.
+struct BspLumps {
+  LumpView entities, shaders, verts, indexes, faces;
+};
+
+Result<BspLumps> bspLumps(std::string_view bytes, const std::string& source) {
   auto entLump = lumpOf(bytes, source, kLumpEntities, 1);
   if (!entLump) return entLump.error();
   auto shaderLump = lumpOf(bytes, source, kLumpShaders, kShaderBytes);
@@ -408,33 +418,39 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
   if (!indexLump) return indexLump.error();
   auto faceLump = lumpOf(bytes, source, kLumpSurfaces, kSurfaceBytes);
   if (!faceLump) return faceLump.error();
+  return BspLumps{*entLump, *shaderLump, *vertLump, *indexLump, *faceLump};
+}
 
-  Q3Map map;
-  Scene& scene = map.scene;
-  scene.name = source;
-  {
-    auto spawns = parseQ3Spawns(std::string_view(entLump->data, entLump->count), source, options);
-    if (!spawns) return spawns.error();
-    map.spawns = std::move(*spawns);
-  }
-
+// The map's shaders, each turned into a material (and its texture) the first
+// time a drawn face uses it.
+class Q3Materials {
+ public:
   struct ShaderInfo {
     std::string name, lower;
     int flags = 0, contents = 0;
     int material = -2;  // -2: not resolved yet; -1: skipped
   };
-  std::vector<ShaderInfo> shaders(shaderLump->count);
-  for (std::size_t i = 0; i < shaders.size(); ++i) {
-    const char* p = shaderLump->data + i * kShaderBytes;
-    shaders[i].name = fixedString(p, 64);
-    shaders[i].lower = toLower(shaders[i].name);
-    shaders[i].flags = readI32(p + 64);
-    shaders[i].contents = readI32(p + 68);
+
+  Q3Materials(const LumpView& shaderLump, const std::string& source,
+              const Q3TextureResolver& resolve, Q3Map& map)
+      : shaders_(shaderLump.count), source_(source), resolve_(resolve), map_(map) {
+    for (std::size_t i = 0; i < shaders_.size(); ++i) {
+      const char* p = shaderLump.data + i * kShaderBytes;
+      shaders_[i].name = fixedString(p, 64);
+      shaders_[i].lower = toLower(shaders_[i].name);
+      shaders_[i].flags = readI32(p + 64);
+      shaders_[i].contents = readI32(p + 68);
+    }
   }
-  std::map<std::string, int> textureByPath;
-  std::vector<glm::vec2> uvScaleOf;  // per material: its stage's tcMod scale
-  auto materialFor = [&](std::size_t shaderIndex) -> int {
-    ShaderInfo& sh = shaders[shaderIndex];
+
+  std::size_t size() const { return shaders_.size(); }
+  const ShaderInfo& shader(std::size_t i) const { return shaders_[i]; }
+  // Per material: its stage's tcMod scale.
+  glm::vec2 uvScale(int material) const { return uvScaleOf_[static_cast<std::size_t>(material)]; }
+
+  // The material of shader `shaderIndex`, or -1 when its faces are not drawn.
+  int materialFor(std::size_t shaderIndex) {
+    ShaderInfo& sh = shaders_[shaderIndex];
     if (sh.material != -2) return sh.material;
     const char* why = skipReason(sh.lower, sh.flags, sh.contents);
     const bool sky = why && std::strcmp(why, "sky") == 0;
@@ -442,8 +458,8 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     Material m;
     m.name = sh.name;
     Q3Texture t;
-    if (resolve) t = resolve(sh.name);
-    const bool earlier = t.sameAsEarlier && textureByPath.count(t.path) > 0;
+    if (resolve_) t = resolve_(sh.name);
+    const bool earlier = t.sameAsEarlier && textureByPath_.count(t.path) > 0;
     if (t.sameAsEarlier && !earlier)
       t.error = "image " + t.path + " named again before its first use (resolver bug)";
     if (sky) {  // drawn only with an image: the sky's own (unlit, both sides)
@@ -455,113 +471,303 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
     m.twoSided = t.twoSided;
     m.alphaTest = t.alphaTest;
     m.alphaCutoff = t.alphaCutoff;
-    if ((earlier || !t.image.empty()) && !t.path.empty() && textureByPath.count(t.path)) {
-      m.texture = textureByPath[t.path];
+    Scene& scene = map_.scene;
+    if ((earlier || !t.image.empty()) && !t.path.empty() && textureByPath_.count(t.path)) {
+      m.texture = textureByPath_[t.path];
     } else {
       Texture tex;
       tex.name = t.path.empty() ? sh.name : t.path;
       if (t.image.empty()) {
-        ++map.stats.missingTextures;
-        scene.warnings.push_back(source + ": shader '" + sh.name +
+        ++map_.stats.missingTextures;
+        scene.warnings.push_back(source_ + ": shader '" + sh.name +
                                  "': " + (t.error.empty() ? std::string("no texture") : t.error) +
                                  "; using a placeholder");
         tex.image = missingTexture();
         m.alphaTest = false;
       } else {
         tex.image = std::move(t.image);
-        if (!t.path.empty()) textureByPath[t.path] = static_cast<int>(scene.textures.size());
+        if (!t.path.empty()) textureByPath_[t.path] = static_cast<int>(scene.textures.size());
       }
       m.texture = static_cast<int>(scene.textures.size());
       scene.textures.push_back(std::move(tex));
     }
     scene.materials.push_back(std::move(m));
-    uvScaleOf.push_back(t.uvScale);
+    uvScaleOf_.push_back(t.uvScale);
     return sh.material = static_cast<int>(scene.materials.size()) - 1;
+  }
+
+ private:
+  std::vector<ShaderInfo> shaders_;
+  const std::string& source_;
+  const Q3TextureResolver& resolve_;
+  Q3Map& map_;
+  std::map<std::string, int> textureByPath_;
+  std::vector<glm::vec2> uvScaleOf_;
+};
+
+// One dsurface_t record (the fields the loader uses).
+struct BspFace {
+  std::int64_t shader = 0, type = 0;
+  std::int64_t firstVert = 0, numVerts = 0;
+  std::int64_t firstIndex = 0, numIndexes = 0;
+  std::int64_t patchW = 0, patchH = 0;
+};
+
+BspFace readFace(const char* p) {
+  BspFace f;
+  f.shader = readI32(p), f.type = readI32(p + 8);
+  f.firstVert = readI32(p + 12), f.numVerts = readI32(p + 16);
+  f.firstIndex = readI32(p + 20), f.numIndexes = readI32(p + 24);
+  f.patchW = readI32(p + 96), f.patchH = readI32(p + 100);
+  return f;
+}
+
+// The face's surface type and shader index.
+Status checkFaceKind(const BspFace& face, const std::string& where, std::size_t shaderCount) {
+  if (face.type < kPlanar || face.type > kFlare)
+    return makeError(where +
+                     ": expected surface type 1 (polygon), 2 (patch), 3 (mesh) or 4 "
+                     "(billboard), got " +
+                     std::to_string(face.type));
+  if (face.shader < 0 || face.shader >= static_cast<std::int64_t>(shaderCount))
+    return makeError(where + ": expected a shader (texture) index in [0, " +
+                     std::to_string(shaderCount) + ") of lump 1 (shaders), got " +
+                     std::to_string(face.shader));
+  return {};
+}
+
+// The face's vertex and meshvert ranges, its patch grid, and that its
+// vertices are finite.
+Status checkFaceVertices(const BspFace& face, const std::string& where, const LumpView& verts,
+                         const LumpView& indexes) {
+  const std::size_t nVerts = verts.count, nIndexes = indexes.count;
+  auto rangeError = [&](const char* what, std::int64_t first, std::int64_t n, std::size_t size,
+                        const char* lump) {
+    return makeError(where + ": " + what + " [" + std::to_string(first) + ", " +
+                     std::to_string(first) + " + " + std::to_string(n) + ") outside lump " + lump +
+                     " of " + std::to_string(size) + " entries");
   };
+  const std::int64_t firstVert = face.firstVert, numVerts = face.numVerts;
+  const std::int64_t firstIndex = face.firstIndex, numIndexes = face.numIndexes;
+  const std::int64_t patchW = face.patchW, patchH = face.patchH;
+  if (firstVert < 0 || numVerts < 0 || firstVert + numVerts > static_cast<std::int64_t>(nVerts))
+    return rangeError("vertices", firstVert, numVerts, nVerts, "10 (vertices)");
+  if (face.type != kPatch) {
+    if (firstIndex < 0 || numIndexes < 0 ||
+        firstIndex + numIndexes > static_cast<std::int64_t>(nIndexes))
+      return rangeError("meshverts", firstIndex, numIndexes, nIndexes, "11 (meshverts)");
+    if (numIndexes % 3 != 0)
+      return makeError(where + ": expected a meshvert count that is a multiple of 3, got " +
+                       std::to_string(numIndexes));
+    for (std::int64_t k = 0; k < numIndexes; ++k) {
+      const std::int64_t idx = readI32(indexes.data + 4 * (firstIndex + k));
+      if (idx < 0 || idx >= numVerts)
+        return makeError(where + ": meshvert " + std::to_string(firstIndex + k) +
+                         " expected a vertex offset in [0, " + std::to_string(numVerts) +
+                         ") (the face's vertex count), got " + std::to_string(idx));
+    }
+  } else {
+    if (patchW < 3 || patchH < 3 || patchW % 2 == 0 || patchH % 2 == 0 || patchW > 65537 ||
+        patchH > 65537)
+      return makeError(where + ": patch control grid must be odd × odd and at least 3 × 3, got " +
+                       std::to_string(patchW) + " × " + std::to_string(patchH));
+    if (patchW * patchH != numVerts)
+      return makeError(where + ": patch of " + std::to_string(patchW) + " × " +
+                       std::to_string(patchH) + " control points expects that many vertices (" +
+                       std::to_string(patchW * patchH) + "), got " + std::to_string(numVerts));
+  }
+  for (std::int64_t k = 0; k < numVerts; ++k) {
+    const DrawVert v = drawVert(verts.data + kDrawVertBytes * (firstVert + k));
+    if (!finite(v.xyz) || !finite(v.st))
+      return makeError(where + ": vertex " + std::to_string(firstVert + k) +
+                       " of lump 10 (vertices) has a non-finite position or texture coordinate");
+  }
+  return {};
+}
+
+// Triangles the face will add, patches subdivided `level` times per piece.
+std::size_t faceTriangles(const BspFace& face, int level) {
+  return face.type == kPatch ? static_cast<std::size_t>((face.patchW - 1) / 2) *
+                                   static_cast<std::size_t>((face.patchH - 1) / 2) * 2u *
+                                   static_cast<std::size_t>(level * level)
+         : face.numIndexes > 0
+             ? static_cast<std::size_t>(face.numIndexes / 3)
+             : static_cast<std::size_t>(std::max<std::int64_t>(face.numVerts - 2, 0));
+}
+
+// Centre of the face's bounding box, Quake units (picks its chunk mesh).
+glm::vec3 faceCentreQ3(const BspFace& face, const LumpView& verts) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (std::int64_t k = 0; k < face.numVerts; ++k) {
+    const glm::vec3 x = drawVert(verts.data + kDrawVertBytes * (face.firstVert + k)).xyz;
+    lo = glm::min(lo, x), hi = glm::max(hi, x);
+  }
+  return 0.5f * (lo + hi);
+}
+
+// A polygon or triangle-soup face appended to `mesh`.
+void appendPolygonFace(const BspFace& face, const LumpView& verts, const LumpView& indexes,
+                       glm::vec2 uvScale, Mesh& mesh, Q3Stats& stats) {
+  const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+  const std::int64_t firstVert = face.firstVert, numVerts = face.numVerts;
+  const std::int64_t firstIndex = face.firstIndex, numIndexes = face.numIndexes;
+  std::vector<DrawVert> dv(static_cast<std::size_t>(numVerts));
+  for (std::int64_t k = 0; k < numVerts; ++k)
+    dv[static_cast<std::size_t>(k)] = drawVert(verts.data + kDrawVertBytes * (firstVert + k));
+  // Quake's triangles are clockwise seen from the front; ours are
+  // counter-clockwise, so every triangle is emitted as (a, c, b).
+  std::vector<std::uint32_t> tri;
+  if (numIndexes > 0) {
+    for (std::int64_t k = 0; k < numIndexes; ++k)
+      tri.push_back(static_cast<std::uint32_t>(readI32(indexes.data + 4 * (firstIndex + k))));
+  } else {  // no meshverts (old compilers): a fan, as the polygon is convex
+    for (std::int64_t k = 1; k + 1 < numVerts; ++k)
+      tri.insert(tri.end(), {0u, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(k + 1)});
+  }
+  glm::vec3 faceNormal(0.0f);
+  for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
+    const glm::vec3 a = dv[tri[t]].xyz, b = dv[tri[t + 1]].xyz, c = dv[tri[t + 2]].xyz;
+    faceNormal += glm::cross(c - a, b - a);  // (a, c, b): counter-clockwise front
+  }
+  faceNormal = safeNormalize(faceNormal, glm::vec3(0, 0, 1));
+  for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
+    const glm::vec3 a = dv[tri[t]].xyz, b = dv[tri[t + 1]].xyz, c = dv[tri[t + 2]].xyz;
+    const glm::vec3 g = glm::cross(c - a, b - a);
+    const glm::vec3 n = dv[tri[t]].normal + dv[tri[t + 1]].normal + dv[tri[t + 2]].normal;
+    if (glm::length(g) > 1e-6f && finite(n) && glm::length(n) > 1e-3f && glm::dot(g, n) < 0.0f)
+      ++stats.windingDisagreements;
+  }
+  for (const DrawVert& v : dv) {
+    Vertex out;
+    out.position = yUp(v.xyz) * static_cast<float>(kQ3MetresPerUnit);
+    out.normal = yUp(finite(v.normal) ? safeNormalize(v.normal, faceNormal) : faceNormal);
+    out.uv = v.st * uvScale;
+    mesh.vertices.push_back(out);
+  }
+  for (std::size_t t = 0; t + 2 < tri.size(); t += 3)
+    mesh.indices.insert(mesh.indices.end(), {base + tri[t], base + tri[t + 2], base + tri[t + 1]});
+}
+
+// A Bézier patch face, each piece subdivided `level` times, appended to
+// `mesh`: one grid over all pieces, so neighbouring pieces share their
+// border vertices (the shared control row makes them equal anyway).
+void appendPatchFace(const BspFace& face, const LumpView& verts, int level, glm::vec2 uvScale,
+                     Mesh& mesh) {
+  const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+  const std::int64_t patchW = face.patchW, patchH = face.patchH;
+  auto cp = [&](std::int64_t i, std::int64_t j) {
+    return drawVert(verts.data + kDrawVertBytes * (face.firstVert + j * patchW + i));
+  };
+  const int piecesW = static_cast<int>((patchW - 1) / 2),
+            piecesH = static_cast<int>((patchH - 1) / 2);
+  const int gw = piecesW * level + 1, gh = piecesH * level + 1;
+  std::vector<DrawVert> ctl(static_cast<std::size_t>(face.numVerts));
+  for (std::int64_t j = 0; j < patchH; ++j)
+    for (std::int64_t i = 0; i < patchW; ++i)
+      ctl[static_cast<std::size_t>(j * patchW + i)] = cp(i, j);
+  auto ctlAt = [&](int i, int j) -> const DrawVert& {
+    return ctl[static_cast<std::size_t>(j) * static_cast<std::size_t>(patchW) +
+               static_cast<std::size_t>(i)];
+  };
+  std::vector<PatchSample> grid(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
+  auto sampleAt = [&](int gx, int gy, float nudge) {
+    const int px = std::min(gx / level, piecesW - 1), py = std::min(gy / level, piecesH - 1);
+    float u = static_cast<float>(gx - px * level) / static_cast<float>(level);
+    float v = static_cast<float>(gy - py * level) / static_cast<float>(level);
+    u += nudge * (0.5f - u), v += nudge * (0.5f - v);
+    return evalPiece(ctlAt, 2 * px, 2 * py, u, v);
+  };
+  double orientation = 0.0;
+  for (int gy = 0; gy < gh; ++gy)
+    for (int gx = 0; gx < gw; ++gx) {
+      PatchSample s = sampleAt(gx, gy, 0.0f);
+      orientation += glm::dot(glm::cross(s.pu, s.pv), s.n);
+      grid[static_cast<std::size_t>(gy) * gw + gx] = s;
+    }
+  // The control points' normals (from q3map) say which side is the front;
+  // the surface's own derivative gives the direction.
+  const float sign = orientation < 0.0 ? -1.0f : 1.0f;
+  for (int gy = 0; gy < gh; ++gy)
+    for (int gx = 0; gx < gw; ++gx) {
+      const PatchSample& s = grid[static_cast<std::size_t>(gy) * gw + gx];
+      glm::vec3 c = glm::cross(s.pu, s.pv);
+      const float scale = glm::length(s.pu) * glm::length(s.pv);
+      if (!(glm::length(c) > 1e-4f * scale) || scale == 0.0f) {
+        // A collapsed edge (cone tip, triangle-shaped patch): the limit
+        // normal, approached from inside the piece.
+        const PatchSample t = sampleAt(gx, gy, 1e-3f);
+        c = glm::cross(t.pu, t.pv);
+        if (!(glm::length(c) > 1e-6f * glm::length(t.pu) * glm::length(t.pv)))
+          c = sign * safeNormalize(s.n, glm::vec3(0, 0, 1));
+      }
+      Vertex out;
+      out.position = yUp(s.p) * static_cast<float>(kQ3MetresPerUnit);
+      out.normal = yUp(safeNormalize(sign * c, glm::vec3(0, 0, 1)));
+      out.uv = s.st * uvScale;
+      mesh.vertices.push_back(out);
+    }
+  for (int gy = 0; gy + 1 < gh; ++gy)
+    for (int gx = 0; gx + 1 < gw; ++gx) {
+      const std::uint32_t a = base + static_cast<std::uint32_t>(gy * gw + gx);
+      const std::uint32_t b = a + 1, d = a + static_cast<std::uint32_t>(gw), c = d + 1;
+      // (a, b, c) has geometric normal along pu × pv.
+      if (sign > 0)
+        mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+      else
+        mesh.indices.insert(mesh.indices.end(), {a, c, b, a, d, c});
+    }
+}
+
+}  // namespace
+
+Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
+                         const Q3TextureResolver& resolve, const Q3Options& options) {
+  HW_TRY(checkBspHeader(bytes, source));
+  auto lumps = bspLumps(bytes, source);
+  if (!lumps) return lumps.error();
+  const LumpView& vertLump = lumps->verts;
+  const LumpView& indexLump = lumps->indexes;
+  const LumpView& faceLump = lumps->faces;
+
+  Q3Map map;
+  Scene& scene = map.scene;
+  scene.name = source;
+  {
+    auto spawns = parseQ3Spawns(std::string_view(lumps->entities.data, lumps->entities.count),
+                                source, options);
+    if (!spawns) return spawns.error();
+    map.spawns = std::move(*spawns);
+  }
+  Q3Materials materials(lumps->shaders, source, resolve, map);
 
   const int level = std::clamp(options.patchSubdivisions, 1, 64);
   const double chunk = options.chunkSizeUnits > 1.0 && std::isfinite(options.chunkSizeUnits)
                            ? options.chunkSizeUnits
                            : 512.0;
-  const std::size_t nVerts = vertLump->count, nIndexes = indexLump->count;
   MeshBuilder builder;
   std::size_t totalTriangles = 0;
-  map.stats.faces = faceLump->count;
+  map.stats.faces = faceLump.count;
 
-  for (std::size_t f = 0; f < faceLump->count; ++f) {
-    const char* p = faceLump->data + f * kSurfaceBytes;
-    const std::int64_t shader = readI32(p), type = readI32(p + 8);
-    const std::int64_t firstVert = readI32(p + 12), numVerts = readI32(p + 16);
-    const std::int64_t firstIndex = readI32(p + 20), numIndexes = readI32(p + 24);
-    const std::int64_t patchW = readI32(p + 96), patchH = readI32(p + 100);
+  for (std::size_t f = 0; f < faceLump.count; ++f) {
+    const BspFace face = readFace(faceLump.data + f * kSurfaceBytes);
     const std::string where = source + ": lump 13 (faces), face " + std::to_string(f);
-    auto rangeError = [&](const char* what, std::int64_t first, std::int64_t n, std::size_t size,
-                          const char* lump) {
-      return makeError(where + ": " + what + " [" + std::to_string(first) + ", " +
-                       std::to_string(first) + " + " + std::to_string(n) + ") outside lump " +
-                       lump + " of " + std::to_string(size) + " entries");
-    };
-
-    if (type < kPlanar || type > kFlare)
-      return makeError(where +
-                       ": expected surface type 1 (polygon), 2 (patch), 3 (mesh) or 4 "
-                       "(billboard), got " +
-                       std::to_string(type));
-    if (shader < 0 || shader >= static_cast<std::int64_t>(shaders.size()))
-      return makeError(where + ": expected a shader (texture) index in [0, " +
-                       std::to_string(shaders.size()) + ") of lump 1 (shaders), got " +
-                       std::to_string(shader));
-    if (type == kFlare) {
+    HW_TRY(checkFaceKind(face, where, materials.size()));
+    if (face.type == kFlare) {
       ++map.stats.skippedFaces;
       continue;
     }
-    if (firstVert < 0 || numVerts < 0 || firstVert + numVerts > static_cast<std::int64_t>(nVerts))
-      return rangeError("vertices", firstVert, numVerts, nVerts, "10 (vertices)");
-    if (type != kPatch) {
-      if (firstIndex < 0 || numIndexes < 0 ||
-          firstIndex + numIndexes > static_cast<std::int64_t>(nIndexes))
-        return rangeError("meshverts", firstIndex, numIndexes, nIndexes, "11 (meshverts)");
-      if (numIndexes % 3 != 0)
-        return makeError(where + ": expected a meshvert count that is a multiple of 3, got " +
-                         std::to_string(numIndexes));
-      for (std::int64_t k = 0; k < numIndexes; ++k) {
-        const std::int64_t idx = readI32(indexLump->data + 4 * (firstIndex + k));
-        if (idx < 0 || idx >= numVerts)
-          return makeError(where + ": meshvert " + std::to_string(firstIndex + k) +
-                           " expected a vertex offset in [0, " + std::to_string(numVerts) +
-                           ") (the face's vertex count), got " + std::to_string(idx));
-      }
-    } else {
-      if (patchW < 3 || patchH < 3 || patchW % 2 == 0 || patchH % 2 == 0 || patchW > 65537 ||
-          patchH > 65537)
-        return makeError(where + ": patch control grid must be odd × odd and at least 3 × 3, got " +
-                         std::to_string(patchW) + " × " + std::to_string(patchH));
-      if (patchW * patchH != numVerts)
-        return makeError(where + ": patch of " + std::to_string(patchW) + " × " +
-                         std::to_string(patchH) + " control points expects that many vertices (" +
-                         std::to_string(patchW * patchH) + "), got " + std::to_string(numVerts));
-    }
-    for (std::int64_t k = 0; k < numVerts; ++k) {
-      const DrawVert v = drawVert(vertLump->data + kDrawVertBytes * (firstVert + k));
-      if (!finite(v.xyz) || !finite(v.st))
-        return makeError(where + ": vertex " + std::to_string(firstVert + k) +
-                         " of lump 10 (vertices) has a non-finite position or texture coordinate");
-    }
+    HW_TRY(checkFaceVertices(face, where, vertLump, indexLump));
 
-    if (const char* why =
-            skipReason(shaders[shader].lower, shaders[shader].flags, shaders[shader].contents)) {
-      if (std::strcmp(why, "sky") != 0 || materialFor(static_cast<std::size_t>(shader)) < 0) {
+    const auto shader = static_cast<std::size_t>(face.shader);
+    const auto& sh = materials.shader(shader);
+    if (const char* why = skipReason(sh.lower, sh.flags, sh.contents)) {
+      if (std::strcmp(why, "sky") != 0 || materials.materialFor(shader) < 0) {
         ++map.stats.skippedFaces;
         continue;
       }
       ++map.stats.skyFaces;
     }
-    const std::size_t faceTris =
-        type == kPatch ? static_cast<std::size_t>((patchW - 1) / 2) *
-                             static_cast<std::size_t>((patchH - 1) / 2) * 2u *
-                             static_cast<std::size_t>(level * level)
-        : numIndexes > 0 ? static_cast<std::size_t>(numIndexes / 3)
-                         : static_cast<std::size_t>(std::max<std::int64_t>(numVerts - 2, 0));
+    const std::size_t faceTris = faceTriangles(face, level);
     totalTriangles += faceTris;
     if (totalTriangles > options.maxTriangles)
       return makeError(where + ": the map would have more than " +
@@ -569,123 +775,15 @@ Result<Q3Map> parseQ3Bsp(std::string_view bytes, const std::string& source,
                        " triangles (Q3Options::maxTriangles); corrupt patch sizes?");
     if (faceTris == 0) continue;
 
-    const int material = materialFor(static_cast<std::size_t>(shader));
+    const int material = materials.materialFor(shader);
     if (material < 0) continue;
-    auto cp = [&](std::int64_t i, std::int64_t j) {
-      return drawVert(vertLump->data + kDrawVertBytes * (firstVert + j * patchW + i));
-    };
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (std::int64_t k = 0; k < numVerts; ++k) {
-      const glm::vec3 x = drawVert(vertLump->data + kDrawVertBytes * (firstVert + k)).xyz;
-      lo = glm::min(lo, x), hi = glm::max(hi, x);
+    Mesh& mesh = builder.meshFor(material, faceCentreQ3(face, vertLump), chunk);
+    if (face.type != kPatch) {
+      appendPolygonFace(face, vertLump, indexLump, materials.uvScale(material), mesh, map.stats);
+    } else {
+      ++map.stats.patches;
+      appendPatchFace(face, vertLump, level, materials.uvScale(material), mesh);
     }
-    Mesh& mesh = builder.meshFor(material, 0.5f * (lo + hi), chunk);
-    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
-
-    if (type != kPatch) {
-      std::vector<DrawVert> dv(static_cast<std::size_t>(numVerts));
-      for (std::int64_t k = 0; k < numVerts; ++k)
-        dv[static_cast<std::size_t>(k)] =
-            drawVert(vertLump->data + kDrawVertBytes * (firstVert + k));
-      // Quake's triangles are clockwise seen from the front; ours are
-      // counter-clockwise, so every triangle is emitted as (a, c, b).
-      std::vector<std::uint32_t> tri;
-      if (numIndexes > 0) {
-        for (std::int64_t k = 0; k < numIndexes; ++k)
-          tri.push_back(
-              static_cast<std::uint32_t>(readI32(indexLump->data + 4 * (firstIndex + k))));
-      } else {  // no meshverts (old compilers): a fan, as the polygon is convex
-        for (std::int64_t k = 1; k + 1 < numVerts; ++k)
-          tri.insert(tri.end(),
-                     {0u, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(k + 1)});
-      }
-      glm::vec3 faceNormal(0.0f);
-      for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
-        const glm::vec3 a = dv[tri[t]].xyz, b = dv[tri[t + 1]].xyz, c = dv[tri[t + 2]].xyz;
-        faceNormal += glm::cross(c - a, b - a);  // (a, c, b): counter-clockwise front
-      }
-      faceNormal = safeNormalize(faceNormal, glm::vec3(0, 0, 1));
-      for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
-        const glm::vec3 a = dv[tri[t]].xyz, b = dv[tri[t + 1]].xyz, c = dv[tri[t + 2]].xyz;
-        const glm::vec3 g = glm::cross(c - a, b - a);
-        const glm::vec3 n = dv[tri[t]].normal + dv[tri[t + 1]].normal + dv[tri[t + 2]].normal;
-        if (glm::length(g) > 1e-6f && finite(n) && glm::length(n) > 1e-3f && glm::dot(g, n) < 0.0f)
-          ++map.stats.windingDisagreements;
-      }
-      for (const DrawVert& v : dv) {
-        Vertex out;
-        out.position = yUp(v.xyz) * static_cast<float>(kQ3MetresPerUnit);
-        out.normal = yUp(finite(v.normal) ? safeNormalize(v.normal, faceNormal) : faceNormal);
-        out.uv = v.st * uvScaleOf[static_cast<std::size_t>(material)];
-        mesh.vertices.push_back(out);
-      }
-      for (std::size_t t = 0; t + 2 < tri.size(); t += 3)
-        mesh.indices.insert(mesh.indices.end(),
-                            {base + tri[t], base + tri[t + 2], base + tri[t + 1]});
-      continue;
-    }
-
-    // Patch: one grid over all pieces, so neighbouring pieces share their
-    // border vertices (the shared control row makes them equal anyway).
-    ++map.stats.patches;
-    const int piecesW = static_cast<int>((patchW - 1) / 2),
-              piecesH = static_cast<int>((patchH - 1) / 2);
-    const int gw = piecesW * level + 1, gh = piecesH * level + 1;
-    std::vector<DrawVert> ctl(static_cast<std::size_t>(numVerts));
-    for (std::int64_t j = 0; j < patchH; ++j)
-      for (std::int64_t i = 0; i < patchW; ++i)
-        ctl[static_cast<std::size_t>(j * patchW + i)] = cp(i, j);
-    auto ctlAt = [&](int i, int j) -> const DrawVert& {
-      return ctl[static_cast<std::size_t>(j) * static_cast<std::size_t>(patchW) +
-                 static_cast<std::size_t>(i)];
-    };
-    std::vector<PatchSample> grid(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
-    auto sampleAt = [&](int gx, int gy, float nudge) {
-      const int px = std::min(gx / level, piecesW - 1), py = std::min(gy / level, piecesH - 1);
-      float u = static_cast<float>(gx - px * level) / static_cast<float>(level);
-      float v = static_cast<float>(gy - py * level) / static_cast<float>(level);
-      u += nudge * (0.5f - u), v += nudge * (0.5f - v);
-      return evalPiece(ctlAt, 2 * px, 2 * py, u, v);
-    };
-    double orientation = 0.0;
-    for (int gy = 0; gy < gh; ++gy)
-      for (int gx = 0; gx < gw; ++gx) {
-        PatchSample s = sampleAt(gx, gy, 0.0f);
-        orientation += glm::dot(glm::cross(s.pu, s.pv), s.n);
-        grid[static_cast<std::size_t>(gy) * gw + gx] = s;
-      }
-    // The control points' normals (from q3map) say which side is the front;
-    // the surface's own derivative gives the direction.
-    const float sign = orientation < 0.0 ? -1.0f : 1.0f;
-    for (int gy = 0; gy < gh; ++gy)
-      for (int gx = 0; gx < gw; ++gx) {
-        const PatchSample& s = grid[static_cast<std::size_t>(gy) * gw + gx];
-        glm::vec3 c = glm::cross(s.pu, s.pv);
-        const float scale = glm::length(s.pu) * glm::length(s.pv);
-        if (!(glm::length(c) > 1e-4f * scale) || scale == 0.0f) {
-          // A collapsed edge (cone tip, triangle-shaped patch): the limit
-          // normal, approached from inside the piece.
-          const PatchSample t = sampleAt(gx, gy, 1e-3f);
-          c = glm::cross(t.pu, t.pv);
-          if (!(glm::length(c) > 1e-6f * glm::length(t.pu) * glm::length(t.pv)))
-            c = sign * safeNormalize(s.n, glm::vec3(0, 0, 1));
-        }
-        Vertex out;
-        out.position = yUp(s.p) * static_cast<float>(kQ3MetresPerUnit);
-        out.normal = yUp(safeNormalize(sign * c, glm::vec3(0, 0, 1)));
-        out.uv = s.st * uvScaleOf[static_cast<std::size_t>(material)];
-        mesh.vertices.push_back(out);
-      }
-    for (int gy = 0; gy + 1 < gh; ++gy)
-      for (int gx = 0; gx + 1 < gw; ++gx) {
-        const std::uint32_t a = base + static_cast<std::uint32_t>(gy * gw + gx);
-        const std::uint32_t b = a + 1, d = a + static_cast<std::uint32_t>(gw), c = d + 1;
-        // (a, b, c) has geometric normal along pu × pv.
-        if (sign > 0)
-          mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
-        else
-          mesh.indices.insert(mesh.indices.end(), {a, c, b, a, d, c});
-      }
   }
 
   if (builder.meshes.empty())
