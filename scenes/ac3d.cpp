@@ -224,10 +224,14 @@ class AcParser {
     return i;
   }
 
-  Status object(std::string_view header, const AcTransform& parent, int depth) {
-    if (depth > kMaxAcDepth)
-      return fail("objects nested deeper than " + std::to_string(kMaxAcDepth), header);
-    ++out_.stats.objects;
+  // An OBJECT's records up to its `kids` line. Surfaces wait for `kids`, as
+  // loc/rot may follow them.
+  struct AcSurface {
+    int flags;
+    int mat;
+    std::vector<std::array<double, 3>> refs;  // vertex index, u, v
+  };
+  struct AcObject {
     std::string baseTexture;
     bool sawBase = false;
     int layers = 0;
@@ -235,204 +239,236 @@ class AcParser {
     AcTransform local;
     std::vector<glm::vec3> positions, normals;
     bool haveNormals = true;
-    struct Pending {  // surfaces wait for `kids`, as loc/rot may follow them
-      int flags;
-      int mat;
-      std::vector<std::array<double, 3>> refs;  // vertex index, u, v
-    };
-    std::vector<Pending> surfaces;
-    std::string_view line;
+    std::vector<AcSurface> surfaces;
     long long kids = -1;
-    while (kids < 0) {
-      if (!next(&line)) return eof("'kids N' to end the OBJECT started earlier");
-      const std::string_view kw = keyword(line), arg = rest(line);
-      long long n = 0;
-      if (kw == "name" || kw == "url" || kw == "crease" || kw == "subdiv" || kw == "hidden" ||
-          kw == "locked" || kw == "folded") {
-        continue;
-      } else if (kw == "data") {
-        if (!integer(arg, &n) || n < 0 ||
-            static_cast<std::size_t>(n) > text_.size() - std::min(pos_, text_.size()))
-          return fail("expected 'data N' with N bytes following", line);
-        pos_ += static_cast<std::size_t>(n);  // the data bytes, then their newline
-        if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
-        if (pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
-      } else if (kw == "texture") {
-        // TORCS: `texture "X" base|tiled|skids|shad`; only the base layer
-        // (or a plain `texture "X"`) is the surface colour.
-        ++layers;
-        std::string_view a = arg;
-        if (a.empty()) return fail("expected 'texture \"NAME\" [base|tiled|skids|shad]'", line);
-        std::string name = quoted(a);
-        std::string_view tail =
-            a.front() == '"' ? a.substr(std::min(a.size(), name.size() + 2)) : rest(a);
-        while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.front())))
-          tail.remove_prefix(1);
-        const std::string_view layer = keyword(tail);
-        if (layer.empty() || layer == "base") {
-          baseTexture = name == "empty_texture_no_mapping" ? "" : name;
-          sawBase = true;
-        }
-      } else if (kw == "texrep" || kw == "texoff") {
-        double* v = kw == "texrep" ? texrep : texoff;
-        if (numbers(arg, v, 2) != 2) return fail("expected '" + std::string(kw) + " U V'", line);
-      } else if (kw == "rot") {
-        double r[9];
-        if (numbers(arg, r, 9) != 9) return fail("expected 'rot' with 9 numbers", line);
-        local.rot = glm::mat3(glm::vec3(r[0], r[1], r[2]), glm::vec3(r[3], r[4], r[5]),
-                              glm::vec3(r[6], r[7], r[8]));
-      } else if (kw == "loc") {
-        double l[3];
-        if (numbers(arg, l, 3) != 3) return fail("expected 'loc X Y Z'", line);
-        local.loc = glm::vec3(l[0], l[1], l[2]);
-      } else if (kw == "numvert") {
-        if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numvert N'", line);
-        // Grown as lines arrive: a declared count allocates nothing by
-        // itself (an 84-byte file declaring 50M vertices took 1.2 GB).
-        positions.clear();
-        normals.clear();
-        positions.reserve(static_cast<std::size_t>(std::min<long long>(n, kAcReserveLimit)));
-        normals.reserve(positions.capacity());
-        for (long long i = 0; i < n; ++i) {
-          if (!next(&line)) return eof(std::to_string(n) + " vertex lines after numvert");
-          double v[6];
-          const int k = numbers(line, v, 6);
-          if (k < 3) return fail("expected a vertex 'X Y Z [NX NY NZ]'", line);
-          positions.push_back(glm::vec3(v[0], v[1], v[2]));
-          if (k == 6)
-            normals.push_back(glm::vec3(v[3], v[4], v[5]));
-          else {
-            normals.push_back(glm::vec3(0.0f));
-            haveNormals = false;
-          }
-        }
-      } else if (kw == "numsurf") {
-        if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numsurf N'", line);
-        for (long long s = 0; s < n; ++s) {
-          if (!next(&line)) return eof("SURF record");
-          long long flags = 0;
-          if (keyword(line) != "SURF" || !integer(rest(line), &flags))
-            return fail("expected 'SURF FLAGS'", line);
-          // Material 0 unless a 'mat' line follows: there must be one.
-          if (acMaterials_.empty())
-            return fail("expected a MATERIAL line before the first SURF (a surface uses "
-                        "material 0 unless it says 'mat N')",
-                        line);
-          Pending p{static_cast<int>(flags), 0, {}};
-          bool gotRefs = false;
-          while (!gotRefs) {
-            if (!next(&line)) return eof("'mat N' / 'refs N' of a SURF");
-            const std::string_view skw = keyword(line);
-            long long v = 0;
-            if (skw == "mat") {
-              if (!integer(rest(line), &v) || v < 0 ||
-                  static_cast<std::size_t>(v) >= acMaterials_.size())
-                return fail("expected 'mat I' with I < " + std::to_string(acMaterials_.size()) +
-                                " (the MATERIALs so far)",
-                            line);
-              p.mat = static_cast<int>(v);
-            } else if (skw == "refs") {
-              if (!integer(rest(line), &v) || v < 0 || v > 10'000'000)
-                return fail("expected 'refs N'", line);
-              p.refs.clear();
-              p.refs.reserve(static_cast<std::size_t>(std::min<long long>(v, kAcReserveLimit)));
-              for (long long ri = 0; ri < v; ++ri) {
-                auto& r = p.refs.emplace_back();
-                if (!next(&line)) return eof("a 'INDEX U V' line of refs");
-                double q[3] = {0, 0, 0};
-                if (numbers(line, q, 3) < 1 || q[0] < 0 ||
-                    q[0] >= static_cast<double>(positions.size()) || q[0] != std::floor(q[0]))
-                  return fail("expected 'INDEX U V' with INDEX < numvert " +
-                                  std::to_string(positions.size()),
-                              line);
-                r = {q[0], q[1], q[2]};
-              }
-              gotRefs = true;
-            } else {
-              return fail("expected 'mat' or 'refs' in a SURF", line);
-            }
-          }
-          surfaces.push_back(std::move(p));
-        }
-      } else if (kw == "kids") {
-        if (!integer(arg, &n) || n < 0 || n > 10'000'000) return fail("expected 'kids N'", line);
-        kids = n;
-      } else {
-        return fail("unknown OBJECT keyword '" + std::string(kw) + "'", line);
-      }
-    }
-    (void)sawBase;
-    if (layers > 1) ++out_.stats.multiLayerObjects;
+  };
+
+  Status object(std::string_view header, const AcTransform& parent, int depth) {
+    if (depth > kMaxAcDepth)
+      return fail("objects nested deeper than " + std::to_string(kMaxAcDepth), header);
+    ++out_.stats.objects;
+    AcObject o;
+    while (o.kids < 0) HW_TRY(objectRecord(o));
+    if (o.layers > 1) ++out_.stats.multiLayerObjects;
 
     AcTransform world;
-    world.rot = parent.rot * local.rot;
-    world.loc = parent.rot * local.loc + parent.loc;
+    world.rot = parent.rot * o.local.rot;
+    world.loc = parent.rot * o.local.loc + parent.loc;
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(world.rot));
-
     std::vector<Vertex> verts;
     std::vector<std::uint32_t> tri;
-    for (const Pending& s : surfaces) {
-      ++out_.stats.surfaces;
-      const int type = s.flags & 0x0F;
-      const bool twoSided = (s.flags & 0x20) != 0;
-      if (twoSided) ++out_.stats.twoSidedSurfaces;
-      if (type == 1 || type == 2) {
-        ++out_.stats.lineSurfaces;
-        continue;
-      }
-      if (s.refs.size() < 3) continue;
-      verts.resize(s.refs.size());
-      for (std::size_t i = 0; i < s.refs.size(); ++i) {
-        const auto vi = static_cast<std::size_t>(s.refs[i][0]);
-        Vertex& v = verts[i];
-        v.position = world.rot * positions[vi] + world.loc;
-        v.normal = haveNormals ? normalMatrix * normals[vi] : glm::vec3(0.0f);
-        const double u = s.refs[i][1] * texrep[0] + texoff[0];
-        const double t = s.refs[i][2] * texrep[1] + texoff[1];
-        v.uv = glm::vec2(static_cast<float>(u),
-                         static_cast<float>(1.0 - t));  // AC: v = 0 at the bottom
-      }
-      tri.clear();
-      const std::size_t n = s.refs.size();
-      auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
-        const bool sameIndex = s.refs[a][0] == s.refs[b][0] || s.refs[b][0] == s.refs[c][0] ||
-                               s.refs[a][0] == s.refs[c][0];
-        if (sameIndex || degenerate(verts[a].position, verts[b].position, verts[c].position)) {
-          ++out_.stats.degenerateTriangles;
-          return;
-        }
-        tri.insert(tri.end(), {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
-                               static_cast<std::uint32_t>(c)});
-      };
-      if (type == 4) {  // TORCS triangle strip, GL order
-        for (std::size_t i = 0; i + 2 < n; ++i)
-          (i % 2 == 0) ? add(i, i + 1, i + 2) : add(i + 1, i, i + 2);
-      } else {  // polygon: a fan, as plib draws it
-        for (std::size_t i = 1; i + 1 < n; ++i) add(0, i, i + 1);
-      }
-      if (tri.empty()) continue;
-      // Missing or zero normals: from the surface's own triangles.
-      std::vector<glm::vec3> acc(n, glm::vec3(0.0f));
-      for (std::size_t k = 0; k < tri.size(); k += 3) {
-        const glm::vec3 fn = glm::cross(verts[tri[k + 1]].position - verts[tri[k]].position,
-                                        verts[tri[k + 2]].position - verts[tri[k]].position);
-        for (int j = 0; j < 3; ++j) acc[tri[k + static_cast<std::size_t>(j)]] += fn;
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        const float len = glm::length(verts[i].normal);
-        if (len > 1e-6f && std::isfinite(len)) {
-          verts[i].normal /= len;
-        } else {
-          const float al = glm::length(acc[i]);
-          verts[i].normal = al > 0 && std::isfinite(al) ? acc[i] / al : glm::vec3(0, 1, 0);
-        }
-      }
-      const int material = materialIndex(s.mat, baseTexture, twoSided);
-      builder_.beginBatch();
-      for (std::size_t k = 0; k < tri.size(); k += 3)
-        builder_.addTriangle(material, verts, tri[k], tri[k + 1], tri[k + 2]);
-    }
+    for (const AcSurface& s : o.surfaces) emitSurface(s, o, world, normalMatrix, verts, tri);
+    return kidObjects(o.kids, world, depth);
+  }
 
+  // One record of an OBJECT (a line, or a numvert/numsurf block).
+  Status objectRecord(AcObject& o) {
+    std::string_view line;
+    if (!next(&line)) return eof("'kids N' to end the OBJECT started earlier");
+    const std::string_view kw = keyword(line), arg = rest(line);
+    long long n = 0;
+    if (kw == "name" || kw == "url" || kw == "crease" || kw == "subdiv" || kw == "hidden" ||
+        kw == "locked" || kw == "folded") {
+      return {};
+    } else if (kw == "data") {
+      if (!integer(arg, &n) || n < 0 ||
+          static_cast<std::size_t>(n) > text_.size() - std::min(pos_, text_.size()))
+        return fail("expected 'data N' with N bytes following", line);
+      pos_ += static_cast<std::size_t>(n);  // the data bytes, then their newline
+      if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
+      if (pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
+    } else if (kw == "texture") {
+      return objectTexture(line, arg, o);
+    } else if (kw == "texrep" || kw == "texoff") {
+      double* v = kw == "texrep" ? o.texrep : o.texoff;
+      if (numbers(arg, v, 2) != 2) return fail("expected '" + std::string(kw) + " U V'", line);
+    } else if (kw == "rot") {
+      double r[9];
+      if (numbers(arg, r, 9) != 9) return fail("expected 'rot' with 9 numbers", line);
+      o.local.rot = glm::mat3(glm::vec3(r[0], r[1], r[2]), glm::vec3(r[3], r[4], r[5]),
+                              glm::vec3(r[6], r[7], r[8]));
+    } else if (kw == "loc") {
+      double l[3];
+      if (numbers(arg, l, 3) != 3) return fail("expected 'loc X Y Z'", line);
+      o.local.loc = glm::vec3(l[0], l[1], l[2]);
+    } else if (kw == "numvert") {
+      if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numvert N'", line);
+      return objectVertices(n, o);
+    } else if (kw == "numsurf") {
+      if (!integer(arg, &n) || n < 0 || n > 50'000'000) return fail("expected 'numsurf N'", line);
+      for (long long s = 0; s < n; ++s) HW_TRY(objectSurface(o));
+    } else if (kw == "kids") {
+      if (!integer(arg, &n) || n < 0 || n > 10'000'000) return fail("expected 'kids N'", line);
+      o.kids = n;
+    } else {
+      return fail("unknown OBJECT keyword '" + std::string(kw) + "'", line);
+    }
+    return {};
+  }
+
+  // TORCS: `texture "X" base|tiled|skids|shad`; only the base layer (or a
+  // plain `texture "X"`) is the surface colour.
+  Status objectTexture(std::string_view line, std::string_view arg, AcObject& o) {
+    ++o.layers;
+    std::string_view a = arg;
+    if (a.empty()) return fail("expected 'texture \"NAME\" [base|tiled|skids|shad]'", line);
+    std::string name = quoted(a);
+    std::string_view tail =
+        a.front() == '"' ? a.substr(std::min(a.size(), name.size() + 2)) : rest(a);
+    while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.front())))
+      tail.remove_prefix(1);
+    const std::string_view layer = keyword(tail);
+    if (layer.empty() || layer == "base") {
+      o.baseTexture = name == "empty_texture_no_mapping" ? "" : name;
+      o.sawBase = true;
+    }
+    return {};
+  }
+
+  // The `n` vertex lines after `numvert n`.
+  Status objectVertices(long long n, AcObject& o) {
+    // Grown as lines arrive: a declared count allocates nothing by
+    // itself (an 84-byte file declaring 50M vertices took 1.2 GB).
+    o.positions.clear();
+    o.normals.clear();
+    o.positions.reserve(static_cast<std::size_t>(std::min<long long>(n, kAcReserveLimit)));
+    o.normals.reserve(o.positions.capacity());
+    std::string_view line;
+    for (long long i = 0; i < n; ++i) {
+      if (!next(&line)) return eof(std::to_string(n) + " vertex lines after numvert");
+      double v[6];
+      const int k = numbers(line, v, 6);
+      if (k < 3) return fail("expected a vertex 'X Y Z [NX NY NZ]'", line);
+      o.positions.push_back(glm::vec3(v[0], v[1], v[2]));
+      if (k == 6)
+        o.normals.push_back(glm::vec3(v[3], v[4], v[5]));
+      else {
+        o.normals.push_back(glm::vec3(0.0f));
+        o.haveNormals = false;
+      }
+    }
+    return {};
+  }
+
+  // One SURF record: its flags, then 'mat I' lines and its 'refs N' block.
+  Status objectSurface(AcObject& o) {
+    std::string_view line;
+    if (!next(&line)) return eof("SURF record");
+    long long flags = 0;
+    if (keyword(line) != "SURF" || !integer(rest(line), &flags))
+      return fail("expected 'SURF FLAGS'", line);
+    // Material 0 unless a 'mat' line follows: there must be one.
+    if (acMaterials_.empty())
+      return fail(
+          "expected a MATERIAL line before the first SURF (a surface uses "
+          "material 0 unless it says 'mat N')",
+          line);
+    AcSurface p{static_cast<int>(flags), 0, {}};
+    bool gotRefs = false;
+    while (!gotRefs) {
+      if (!next(&line)) return eof("'mat N' / 'refs N' of a SURF");
+      const std::string_view skw = keyword(line);
+      long long v = 0;
+      if (skw == "mat") {
+        if (!integer(rest(line), &v) || v < 0 || static_cast<std::size_t>(v) >= acMaterials_.size())
+          return fail("expected 'mat I' with I < " + std::to_string(acMaterials_.size()) +
+                          " (the MATERIALs so far)",
+                      line);
+        p.mat = static_cast<int>(v);
+      } else if (skw == "refs") {
+        if (!integer(rest(line), &v) || v < 0 || v > 10'000'000)
+          return fail("expected 'refs N'", line);
+        p.refs.clear();
+        p.refs.reserve(static_cast<std::size_t>(std::min<long long>(v, kAcReserveLimit)));
+        for (long long ri = 0; ri < v; ++ri) {
+          auto& r = p.refs.emplace_back();
+          if (!next(&line)) return eof("a 'INDEX U V' line of refs");
+          double q[3] = {0, 0, 0};
+          if (numbers(line, q, 3) < 1 || q[0] < 0 ||
+              q[0] >= static_cast<double>(o.positions.size()) || q[0] != std::floor(q[0]))
+            return fail(
+                "expected 'INDEX U V' with INDEX < numvert " + std::to_string(o.positions.size()),
+                line);
+          r = {q[0], q[1], q[2]};
+        }
+        gotRefs = true;
+      } else {
+        return fail("expected 'mat' or 'refs' in a SURF", line);
+      }
+    }
+    o.surfaces.push_back(std::move(p));
+    return {};
+  }
+
+  // A surface's triangles (a fan, or a TORCS strip) added to the scene in
+  // `world` space; `verts` and `tri` are scratch.
+  void emitSurface(const AcSurface& s, const AcObject& o, const AcTransform& world,
+                   const glm::mat3& normalMatrix, std::vector<Vertex>& verts,
+                   std::vector<std::uint32_t>& tri) {
+    ++out_.stats.surfaces;
+    const int type = s.flags & 0x0F;
+    const bool twoSided = (s.flags & 0x20) != 0;
+    if (twoSided) ++out_.stats.twoSidedSurfaces;
+    if (type == 1 || type == 2) {
+      ++out_.stats.lineSurfaces;
+      return;
+    }
+    if (s.refs.size() < 3) return;
+    verts.resize(s.refs.size());
+    for (std::size_t i = 0; i < s.refs.size(); ++i) {
+      const auto vi = static_cast<std::size_t>(s.refs[i][0]);
+      Vertex& v = verts[i];
+      v.position = world.rot * o.positions[vi] + world.loc;
+      v.normal = o.haveNormals ? normalMatrix * o.normals[vi] : glm::vec3(0.0f);
+      const double u = s.refs[i][1] * o.texrep[0] + o.texoff[0];
+      const double t = s.refs[i][2] * o.texrep[1] + o.texoff[1];
+      v.uv = glm::vec2(static_cast<float>(u),
+                       static_cast<float>(1.0 - t));  // AC: v = 0 at the bottom
+    }
+    tri.clear();
+    const std::size_t n = s.refs.size();
+    auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
+      const bool sameIndex = s.refs[a][0] == s.refs[b][0] || s.refs[b][0] == s.refs[c][0] ||
+                             s.refs[a][0] == s.refs[c][0];
+      if (sameIndex || degenerate(verts[a].position, verts[b].position, verts[c].position)) {
+        ++out_.stats.degenerateTriangles;
+        return;
+      }
+      tri.insert(tri.end(), {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
+                             static_cast<std::uint32_t>(c)});
+    };
+    if (type == 4) {  // TORCS triangle strip, GL order
+      for (std::size_t i = 0; i + 2 < n; ++i)
+        (i % 2 == 0) ? add(i, i + 1, i + 2) : add(i + 1, i, i + 2);
+    } else {  // polygon: a fan, as plib draws it
+      for (std::size_t i = 1; i + 1 < n; ++i) add(0, i, i + 1);
+    }
+    if (tri.empty()) return;
+    // Missing or zero normals: from the surface's own triangles.
+    std::vector<glm::vec3> acc(n, glm::vec3(0.0f));
+    for (std::size_t k = 0; k < tri.size(); k += 3) {
+      const glm::vec3 fn = glm::cross(verts[tri[k + 1]].position - verts[tri[k]].position,
+                                      verts[tri[k + 2]].position - verts[tri[k]].position);
+      for (int j = 0; j < 3; ++j) acc[tri[k + static_cast<std::size_t>(j)]] += fn;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const float len = glm::length(verts[i].normal);
+      if (len > 1e-6f && std::isfinite(len)) {
+        verts[i].normal /= len;
+      } else {
+        const float al = glm::length(acc[i]);
+        verts[i].normal = al > 0 && std::isfinite(al) ? acc[i] / al : glm::vec3(0, 1, 0);
+      }
+    }
+    const int material = materialIndex(s.mat, o.baseTexture, twoSided);
+    builder_.beginBatch();
+    for (std::size_t k = 0; k < tri.size(); k += 3)
+      builder_.addTriangle(material, verts, tri[k], tri[k + 1], tri[k + 2]);
+  }
+
+  // The `kids` OBJECTs after an OBJECT's `kids` line, placed in `world`.
+  Status kidObjects(long long kids, const AcTransform& world, int depth) {
+    std::string_view line;
     for (long long k = 0; k < kids; ++k) {
       if (!next(&line)) {
         // TORCS' own loader stops quietly here ("bad hack for buggy .acc
