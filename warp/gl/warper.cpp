@@ -250,186 +250,20 @@ class GlWarper final : public Warper {
       src->slot = pool_->free.back();
       pool_->free.pop_back();
     }
-    GlSlot& slot = src->slot;
     src->camera = kf.camera;
-    const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
     if (options_.skyBackdrop) emptyRects(kf.covered, skyRects_);
     else skyRects_.clear();
     src->skyRects = static_cast<int>(skyRects_.size());
-    const Primitives prim = options_.primitives;
-    src->indexed = prim != Primitives::Independent;
-    scratch_.clear();
-    indices_.clear();
-    shared_.clear();
-    scratch_.reserve((mesh.quads.size() + skyRects_.size()) * (src->indexed ? 4 : 6));
-    if (src->indexed) indices_.reserve((mesh.quads.size() + skyRects_.size()) * 6);
-    static constexpr int kTri[6] = {0, 1, 2, 0, 2, 3};
-    // One quad (corners in order) as two triangles 0-1-2, 0-2-3.
-    auto addQuad = [&](const WarpVertex* v) {
-      if (prim == Primitives::Independent) {
-        for (int k : kTri) scratch_.push_back(v[k]);
-        return;
-      }
-      std::uint32_t id[4];
-      for (int k = 0; k < 4; ++k) {
-        if (prim == Primitives::Shared) {
-          const auto [it, fresh] =
-              shared_.try_emplace(v[k], static_cast<std::uint32_t>(scratch_.size()));
-          if (fresh) scratch_.push_back(v[k]);
-          id[k] = it->second;
-        } else {
-          id[k] = static_cast<std::uint32_t>(scratch_.size());
-          scratch_.push_back(v[k]);
-        }
-      }
-      for (int k : kTri) indices_.push_back(id[k]);
-    };
-    // −1 while emitting a large leaf (markLargeQuads): its texcoords are
-    // negated, which textureProj divides away (the sign is exact in float).
-    double texSign = 1.0;
-    auto emit = [&](const glm::dvec3* world, const glm::dvec2* pixel, const double* eyeZ) {
-      WarpVertex v[4];
-      for (int k = 0; k < 4; ++k) {
-        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(world[k][c]);
-        v[k].pos[3] = 1.0f;
-        const double s = pixel[k].x * invW, t = pixel[k].y * invH;
-        const double w =
-            texSign * (options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0);
-        v[k].tex[0] = static_cast<float>(s * w);
-        v[k].tex[1] = static_cast<float>(t * w);
-        v[k].tex[2] = static_cast<float>(w);
-      }
-      addQuad(v);
-    };
-    int subdivided = 0;
-    const bool cull = options_.cullBackground && src->indexed;
-    if (cull) {
-      src->cull = std::make_unique<CullData>();
-      src->cull->leafFirst.reserve(mesh.quads.size() + 1);
-    }
-    pointScratch_.clear();
-    for (const keyframe::Quad& q : mesh.quads) {
-      if (cull) src->cull->leafFirst.push_back(static_cast<int>(indices_.size() / 6));
-      if (prim == Primitives::Points && q.rect.width() == 1 && q.rect.height() == 1) {
-        const double u = q.rect.x0 + 0.5, v = q.rect.y0 + 0.5;
-        const glm::dvec3 p = keyframe::quadPointAt(q, kf.camera, u, v);
-        const double w = keyframe::quadEyeZAt(q, u, v);
-        WarpVertex pv;
-        for (int c = 0; c < 3; ++c) pv.pos[c] = static_cast<float>(p[c]);
-        pv.pos[3] = 1.0f;
-        pv.tex[0] = static_cast<float>(u * invW * w);
-        pv.tex[1] = static_cast<float>(v * invH * w);
-        pv.tex[2] = static_cast<float>(w);
-        pointScratch_.push_back(pv);
-        continue;
-      }
-      texSign = options_.markLargeQuads && cellGrid(q) > 1 ? -1.0 : 1.0;
-      const int cells = cellsFor(q, kf);
-      if (cells <= 1) {
-        emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
-        continue;
-      }
-      ++subdivided;
-      emitCells(q, kf, emit);
-    }
-    src->quads = static_cast<int>((src->indexed ? indices_.size() : scratch_.size()) / 6);
-    src->serial = ++serial_;
-    if (cull) {
-      CullData& c = *src->cull;
-      c.leafFirst.push_back(src->quads);
-      c.indices = indices_;
-      c.keyframe.camera = kf.camera;
-      c.keyframe.depthMode = kf.depthMode;
-      c.keyframe.eyeZ = kf.eyeZ;
-      c.keyframe.covered = kf.covered;
-      c.mesh.width = mesh.width;
-      c.mesh.height = mesh.height;
-      c.mesh.quads = mesh.quads;
-    }
+    src->indexed = options_.primitives != Primitives::Independent;
+    const int subdivided = buildVertices(kf, mesh, *src);
     if (stats) {
       stats->subdividedQuads = subdivided;
       stats->drawnQuads = src->quads;
-    }
-    // Sky: each corner is the direction through that keyframe image point,
-    // scaled to depth 1 along W, so its projective texcoord is (s, t, 1).
-    for (const keyframe::PixelRect& r : skyRects_) {
-      const double us[4] = {double(r.x0), double(r.x1), double(r.x1), double(r.x0)};
-      const double vs[4] = {double(r.y0), double(r.y0), double(r.y1), double(r.y1)};
-      WarpVertex v[4];
-      for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 d = kf.camera.unproject(us[k], vs[k], 1.0) - kf.camera.eye;
-        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(d[c]);
-        v[k].pos[3] = 0.0f;
-        v[k].tex[0] = static_cast<float>(us[k] * invW);
-        v[k].tex[1] = static_cast<float>(vs[k] * invH);
-        v[k].tex[2] = 1.0f;
-      }
-      addQuad(v);
-    }
-    src->pointFirst = static_cast<int>(scratch_.size());
-    src->points = static_cast<int>(pointScratch_.size());
-    src->focal = kf.camera.fy();
-    scratch_.insert(scratch_.end(), pointScratch_.begin(), pointScratch_.end());
-    if (stats) {
       stats->vertices = static_cast<int>(scratch_.size());
       stats->points = src->points;
     }
-    if (!slot.vao) {
-      glGenVertexArrays(1, &slot.vao);
-      glBindVertexArray(slot.vao);
-      glGenBuffers(1, &slot.vbo);
-      glGenBuffers(1, &slot.ibo);
-      glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, slot.ibo);  // recorded in the VAO
-      glEnableVertexAttribArray(0);
-      glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
-                            reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
-      glEnableVertexAttribArray(1);
-      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
-                            reinterpret_cast<void*>(offsetof(WarpVertex, tex)));
-      glBindVertexArray(0);
-    }
-    // Storage is reallocated only to grow, with 25 % headroom, so after the
-    // first keyframes of a walk uploads are copies into existing storage.
-    const auto bytes = static_cast<GLsizeiptr>(scratch_.size() * sizeof(WarpVertex));
-    glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
-    if (bytes > slot.vboBytes) {
-      slot.vboBytes = bytes + bytes / 4;
-      glBufferData(GL_ARRAY_BUFFER, slot.vboBytes, nullptr, GL_DYNAMIC_DRAW);
-    }
-    if (bytes > 0) glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, scratch_.data());
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    if (src->indexed) {
-      const auto ibytes = static_cast<GLsizeiptr>(indices_.size() * sizeof(std::uint32_t));
-      glBindVertexArray(slot.vao);  // the element buffer binding is VAO state
-      if (ibytes > slot.iboBytes) {
-        slot.iboBytes = ibytes + ibytes / 4;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, slot.iboBytes, nullptr, GL_DYNAMIC_DRAW);
-      }
-      if (ibytes > 0) glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, indices_.data());
-      glBindVertexArray(0);
-    }
-
-    if (!slot.tex) {
-      glGenTextures(1, &slot.tex);
-      glBindTexture(GL_TEXTURE_2D, slot.tex);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    }
-    glBindTexture(GL_TEXTURE_2D, slot.tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    // Image row 0 (top) at t = 0, matching t = v / height above.
-    if (slot.texWidth != kf.colour.width() || slot.texHeight != kf.colour.height()) {
-      slot.texWidth = kf.colour.width();
-      slot.texHeight = kf.colour.height();
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, slot.texWidth, slot.texHeight, 0, GL_RGBA,
-                   GL_UNSIGNED_BYTE, kf.colour.data());
-    } else {
-      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, slot.texWidth, slot.texHeight, GL_RGBA,
-                      GL_UNSIGNED_BYTE, kf.colour.data());
-    }
+    uploadBuffers(src->slot, src->indexed);
+    uploadTexture(src->slot, kf);
     HW_TRY(gl::checkGlError("Warper::upload"));
     if (stats) stats->uploadMs = sw.ms();
     return std::unique_ptr<WarpSource>(std::move(src));
@@ -559,6 +393,209 @@ class GlWarper final : public Warper {
   const WarpOptions& options() const override { return options_; }
 
  private:
+  // The source's vertices (scratch_) and indices (indices_): the mesh's
+  // leaves, then the sky rects, then one point per 1×1 leaf (Points).
+  // Returns the number of leaves cut into cells.
+  int buildVertices(const keyframe::Keyframe& kf, const keyframe::QuadMesh& mesh,
+                    GlWarpSource& src) {
+    scratch_.clear();
+    indices_.clear();
+    shared_.clear();
+    scratch_.reserve((mesh.quads.size() + skyRects_.size()) * (src.indexed ? 4 : 6));
+    if (src.indexed) indices_.reserve((mesh.quads.size() + skyRects_.size()) * 6);
+    const int subdivided = addLeafQuads(kf, mesh, src);
+    src.quads = static_cast<int>((src.indexed ? indices_.size() : scratch_.size()) / 6);
+    src.serial = ++serial_;
+    if (src.cull) keepCullData(kf, mesh, src);
+    addSkyQuads(kf, mesh);
+    src.pointFirst = static_cast<int>(scratch_.size());
+    src.points = static_cast<int>(pointScratch_.size());
+    src.focal = kf.camera.fy();
+    scratch_.insert(scratch_.end(), pointScratch_.begin(), pointScratch_.end());
+    return subdivided;
+  }
+
+  // One quad (corners in order) as two triangles 0-1-2, 0-2-3.
+  void addQuad(const WarpVertex* v) {
+    static constexpr int kTri[6] = {0, 1, 2, 0, 2, 3};
+    const Primitives prim = options_.primitives;
+    if (prim == Primitives::Independent) {
+      for (int k : kTri) scratch_.push_back(v[k]);
+      return;
+    }
+    std::uint32_t id[4];
+    for (int k = 0; k < 4; ++k) {
+      if (prim == Primitives::Shared) {
+        const auto [it, fresh] =
+            shared_.try_emplace(v[k], static_cast<std::uint32_t>(scratch_.size()));
+        if (fresh) scratch_.push_back(v[k]);
+        id[k] = it->second;
+      } else {
+        id[k] = static_cast<std::uint32_t>(scratch_.size());
+        scratch_.push_back(v[k]);
+      }
+    }
+    for (int k : kTri) indices_.push_back(id[k]);
+  }
+
+  // The mesh's leaves as quads (cut into cells where cellsFor says so), and
+  // 1×1 leaves as points into pointScratch_ (Primitives::Points). Records
+  // each leaf's first quad when the source keeps cull data. Returns the
+  // number of leaves cut into cells.
+  int addLeafQuads(const keyframe::Keyframe& kf, const keyframe::QuadMesh& mesh,
+                   GlWarpSource& src) {
+    const Primitives prim = options_.primitives;
+    const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
+    // −1 while emitting a large leaf (markLargeQuads): its texcoords are
+    // negated, which textureProj divides away (the sign is exact in float).
+    double texSign = 1.0;
+    auto emit = [&](const glm::dvec3* world, const glm::dvec2* pixel, const double* eyeZ) {
+      WarpVertex v[4];
+      for (int k = 0; k < 4; ++k) {
+        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(world[k][c]);
+        v[k].pos[3] = 1.0f;
+        const double s = pixel[k].x * invW, t = pixel[k].y * invH;
+        const double w =
+            texSign * (options_.texcoords == TexcoordMode::Projective ? eyeZ[k] : 1.0);
+        v[k].tex[0] = static_cast<float>(s * w);
+        v[k].tex[1] = static_cast<float>(t * w);
+        v[k].tex[2] = static_cast<float>(w);
+      }
+      addQuad(v);
+    };
+    int subdivided = 0;
+    const bool cull = options_.cullBackground && src.indexed;
+    if (cull) {
+      src.cull = std::make_unique<CullData>();
+      src.cull->leafFirst.reserve(mesh.quads.size() + 1);
+    }
+    pointScratch_.clear();
+    for (const keyframe::Quad& q : mesh.quads) {
+      if (cull) src.cull->leafFirst.push_back(static_cast<int>(indices_.size() / 6));
+      if (prim == Primitives::Points && q.rect.width() == 1 && q.rect.height() == 1) {
+        const double u = q.rect.x0 + 0.5, v = q.rect.y0 + 0.5;
+        const glm::dvec3 p = keyframe::quadPointAt(q, kf.camera, u, v);
+        const double w = keyframe::quadEyeZAt(q, u, v);
+        WarpVertex pv;
+        for (int c = 0; c < 3; ++c) pv.pos[c] = static_cast<float>(p[c]);
+        pv.pos[3] = 1.0f;
+        pv.tex[0] = static_cast<float>(u * invW * w);
+        pv.tex[1] = static_cast<float>(v * invH * w);
+        pv.tex[2] = static_cast<float>(w);
+        pointScratch_.push_back(pv);
+        continue;
+      }
+      texSign = options_.markLargeQuads && cellGrid(q) > 1 ? -1.0 : 1.0;
+      const int cells = cellsFor(q, kf);
+      if (cells <= 1) {
+        emit(q.world.data(), q.pixel.data(), q.eyeZ.data());
+        continue;
+      }
+      ++subdivided;
+      emitCells(q, kf, emit);
+    }
+    return subdivided;
+  }
+
+  // What the background cull reads on the CPU: the leaves and their indices.
+  void keepCullData(const keyframe::Keyframe& kf, const keyframe::QuadMesh& mesh,
+                    GlWarpSource& src) {
+    CullData& c = *src.cull;
+    c.leafFirst.push_back(src.quads);
+    c.indices = indices_;
+    c.keyframe.camera = kf.camera;
+    c.keyframe.depthMode = kf.depthMode;
+    c.keyframe.eyeZ = kf.eyeZ;
+    c.keyframe.covered = kf.covered;
+    c.mesh.width = mesh.width;
+    c.mesh.height = mesh.height;
+    c.mesh.quads = mesh.quads;
+  }
+
+  // Sky: each corner is the direction through that keyframe image point,
+  // scaled to depth 1 along W, so its projective texcoord is (s, t, 1).
+  void addSkyQuads(const keyframe::Keyframe& kf, const keyframe::QuadMesh& mesh) {
+    const double invW = 1.0 / mesh.width, invH = 1.0 / mesh.height;
+    for (const keyframe::PixelRect& r : skyRects_) {
+      const double us[4] = {double(r.x0), double(r.x1), double(r.x1), double(r.x0)};
+      const double vs[4] = {double(r.y0), double(r.y0), double(r.y1), double(r.y1)};
+      WarpVertex v[4];
+      for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 d = kf.camera.unproject(us[k], vs[k], 1.0) - kf.camera.eye;
+        for (int c = 0; c < 3; ++c) v[k].pos[c] = static_cast<float>(d[c]);
+        v[k].pos[3] = 0.0f;
+        v[k].tex[0] = static_cast<float>(us[k] * invW);
+        v[k].tex[1] = static_cast<float>(vs[k] * invH);
+        v[k].tex[2] = 1.0f;
+      }
+      addQuad(v);
+    }
+  }
+
+  // scratch_ (and indices_ when indexed) into the slot's buffers, created
+  // with their vertex array on first use.
+  void uploadBuffers(GlSlot& slot, bool indexed) {
+    if (!slot.vao) {
+      glGenVertexArrays(1, &slot.vao);
+      glBindVertexArray(slot.vao);
+      glGenBuffers(1, &slot.vbo);
+      glGenBuffers(1, &slot.ibo);
+      glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, slot.ibo);  // recorded in the VAO
+      glEnableVertexAttribArray(0);
+      glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
+                            reinterpret_cast<void*>(offsetof(WarpVertex, pos)));
+      glEnableVertexAttribArray(1);
+      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(WarpVertex),
+                            reinterpret_cast<void*>(offsetof(WarpVertex, tex)));
+      glBindVertexArray(0);
+    }
+    // Storage is reallocated only to grow, with 25 % headroom, so after the
+    // first keyframes of a walk uploads are copies into existing storage.
+    const auto bytes = static_cast<GLsizeiptr>(scratch_.size() * sizeof(WarpVertex));
+    glBindBuffer(GL_ARRAY_BUFFER, slot.vbo);
+    if (bytes > slot.vboBytes) {
+      slot.vboBytes = bytes + bytes / 4;
+      glBufferData(GL_ARRAY_BUFFER, slot.vboBytes, nullptr, GL_DYNAMIC_DRAW);
+    }
+    if (bytes > 0) glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, scratch_.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    if (indexed) {
+      const auto ibytes = static_cast<GLsizeiptr>(indices_.size() * sizeof(std::uint32_t));
+      glBindVertexArray(slot.vao);  // the element buffer binding is VAO state
+      if (ibytes > slot.iboBytes) {
+        slot.iboBytes = ibytes + ibytes / 4;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, slot.iboBytes, nullptr, GL_DYNAMIC_DRAW);
+      }
+      if (ibytes > 0) glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, indices_.data());
+      glBindVertexArray(0);
+    }
+  }
+
+  // The keyframe's colour into the slot's texture, created on first use and
+  // reallocated only when the size changes.
+  void uploadTexture(GlSlot& slot, const keyframe::Keyframe& kf) {
+    if (!slot.tex) {
+      glGenTextures(1, &slot.tex);
+      glBindTexture(GL_TEXTURE_2D, slot.tex);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, slot.tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // Image row 0 (top) at t = 0, matching t = v / height above.
+    if (slot.texWidth != kf.colour.width() || slot.texHeight != kf.colour.height()) {
+      slot.texWidth = kf.colour.width();
+      slot.texHeight = kf.colour.height();
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, slot.texWidth, slot.texHeight, 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, kf.colour.data());
+    } else {
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, slot.texWidth, slot.texHeight, GL_RGBA,
+                      GL_UNSIGNED_BYTE, kf.colour.data());
+    }
+  }
   // Cells of subdivideCellPx a leaf spans (nx·ny); > 1 = a subdivision
   // candidate, the leaves Uniform cuts.
   int cellGrid(const keyframe::Quad& q) const {
