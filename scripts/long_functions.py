@@ -3,10 +3,11 @@
 
 Usage: long_functions.py [ROOT] [--max-lines N] | --self-test
 Scans *.cpp/*.cc/*.h/*.hpp under ROOT (default: the repository holding this
-script), skipping tests/, bench/, build*/, third_party/, vendored and hidden
-directories. A function is a `{` at namespace or class level whose preceding
-text looks like a signature (`...)` optionally followed by const, override,
-noexcept, `-> T` or a constructor's initialiser list); its length counts the
+script), skipping tests/, bench/, docs/results/ (study programs), build*/,
+third_party/, vendored and hidden directories. A function is a `{` at
+namespace or class level whose preceding text looks like a signature (`...)`
+optionally followed by const, override, noexcept, `-> T` or a constructor's
+initialiser list); its length counts the
 lines from the signature's `{` to the matching `}`. Comments, strings,
 character literals and preprocessor lines are blanked first, so braces in
 them do not count. Prints `file:line name lines` for each one longer than N
@@ -20,6 +21,8 @@ import sys
 
 SKIP_DIRS = {"tests", "bench", "third_party", "thirdparty", "external", "extern",
              "vendor", "vendored", "deps", "node_modules"}
+# Measurement programs kept with their results, like bench/ studies.
+SKIP_PATHS = {"docs/results"}
 EXTENSIONS = (".cpp", ".cc", ".cxx", ".h", ".hpp", ".hh")
 
 # Text after a signature's closing parenthesis that still makes it one.
@@ -229,11 +232,11 @@ def self_test():
 
 def source_files(root):
     for dirpath, dirnames, filenames in os.walk(root):
-        rel = os.path.relpath(dirpath, root)
+        rel = os.path.relpath(dirpath, root).replace(os.sep, "/")
         dirnames[:] = sorted(
             d for d in dirnames
             if not d.startswith(".") and d not in SKIP_DIRS and not d.startswith("build")
-            and not (rel == "." and d in ("docs",)))
+            and (rel + "/" + d).lstrip("./") not in SKIP_PATHS)
         for f in sorted(filenames):
             if f.endswith(EXTENSIONS):
                 yield os.path.join(dirpath, f)
