@@ -7,11 +7,11 @@ script), skipping tests/, bench/, docs/results/ (study programs), build*/,
 third_party/, vendored and hidden directories. A function is a `{` at
 namespace or class level whose preceding text looks like a signature (`...)`
 optionally followed by const, override, noexcept, `-> T` or a constructor's
-initialiser list); its length counts the
-lines from the signature's `{` to the matching `}`. Comments, strings,
-character literals and preprocessor lines are blanked first, so braces in
-them do not count. Prints `file:line name lines` for each one longer than N
-(default 150) and exits 1 if there is any, 0 if none, 2 on bad arguments.
+initialiser list); its length counts the lines from the signature's `{` to
+the matching `}`. Comments, strings, character literals and preprocessor
+lines are blanked first, so braces in them do not count. Prints
+`file:line name lines` for each one longer than N (default 150) and exits 1
+if there is any, 0 if none, 2 on bad arguments.
 --self-test checks the heuristic on a snippet (braces in comments, strings,
 raw strings, digit separators, init lists, lambdas, enums, initialisers).
 """
