@@ -390,7 +390,7 @@ WalkRows walkRows() {
   rows.push_back(parsedRow(
       "--keyframe-cache-mb", kKeyframes, "MiB", "MIB",
       "Memory bound of the keyframe cache (colour + depth + quad mesh; the two keyframes of "
-      "the current bracket are always kept)",
+      "the current bracket are always kept); capped by what --max-memory has left",
       [](const std::string& v, WalkOptions* o) -> std::string {
         char* end = nullptr;
         const double x = std::strtod(v.c_str(), &end);
