@@ -7,6 +7,7 @@
 
 #include "api/internal.h"
 #include "core/result.h"
+#include "core/short_number.h"
 #include "scenes/camera_path.h"
 
 namespace hybridwalk {
@@ -56,13 +57,13 @@ hw::Status checkCamera(const Camera& c, const std::string& what) {
                          "camera with Camera::lookAt");
   if (!(c.fovYRadians > 0 && c.fovYRadians < 3.14159265358979323846))
     return hw::makeError(what + ": fovYRadians: expected 0 < fov < pi, got " +
-                         std::to_string(c.fovYRadians));
+                         hw::shortNumber(c.fovYRadians));
   if (c.width < 1 || c.width > 16384 || c.height < 1 || c.height > 16384)
     return hw::makeError(what + ": size: expected 1 ... 16384 pixels each way, got " +
                          std::to_string(c.width) + "x" + std::to_string(c.height));
   if (!(c.nearPlane > 0 && c.nearPlane < c.farPlane && std::isfinite(c.farPlane)))
     return hw::makeError(what + ": planes: expected 0 < near < far (finite), got near " +
-                         std::to_string(c.nearPlane) + ", far " + std::to_string(c.farPlane));
+                         hw::shortNumber(c.nearPlane) + ", far " + hw::shortNumber(c.farPlane));
   return {};
 }
 

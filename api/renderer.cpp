@@ -15,6 +15,7 @@
 #include "api/internal.h"
 #include "core/gl/context.h"
 #include "core/metrics.h"
+#include "core/short_number.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "session/free_frames.h"
@@ -63,7 +64,7 @@ namespace {
 hw::Status mapOptions(const RendererDesc& d, hw::session::WalkOptions& w) {
   auto bad = [](const std::string& what, double v, const char* expected) {
     return hw::makeError("renderer: " + what + ": expected " + expected + ", got " +
-                         std::to_string(v));
+                         hw::shortNumber(v));
   };
   const LodDesc& l = d.lod;
   if (!(l.tau >= 0) || !std::isfinite(l.tau)) return bad("lod.tau", l.tau, "a finite number >= 0");

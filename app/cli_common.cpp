@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/option_checks.h"
 #include "core/check.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
@@ -381,12 +382,12 @@ void addCommon(CLI::App* c, Common& o) {
   c->add_option("--speed", o.pathOptions.metresPerFrame,
                 "Default path on a TORCS track: metres per frame along the centreline (0: 450 m "
                 "over 240 frames)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   c->add_option("--eye-height", o.pathOptions.eyeHeight,
                 "Default path: eye above the floor or road in scene units (0: 1.2 m in a TORCS "
                 "car, 1.7 m on a MORSE terrain, from the scene's size in a model file)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   c->add_option("--depth", o.depth,
                 "Keyframe depth buffer: float32-reversed (default: keeps corner accuracy at "
@@ -395,7 +396,7 @@ void addCommon(CLI::App* c, Common& o) {
       ->check(CLI::IsMember({"fixed24", "float32", "float32-reversed"}))
       ->capture_default_str();
   c->add_option("--frames", o.frames, "Stop after this many frames of the path (0 = all)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   c->add_flag_callback("--allow-external-refs", [] { scenes::setExternalRefsAllowed(true); },
                        "Let a model file name files outside its own folder tree (glTF buffers "
@@ -483,7 +484,7 @@ void addDistribute(CLI::App* c, DistributeCli& o, const char* unit) {
                 "with a dash: --sbatch-arg=--qos=short")
       ->allow_extra_args(false);
   c->add_option("--slurm-poll", o.d.pollSeconds, "Seconds between squeue polls")
-      ->check(CLI::Range(0.1, 600.0))
+      ->check(numberRange(0.1, 600.0))
       ->capture_default_str();
   c->add_option("--chunk", o.chunk, "internal: run one chunk")->group("");
 }

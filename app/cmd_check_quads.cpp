@@ -2,19 +2,17 @@
 // quad mesh with a preset's LOD settings and validates each quad against
 // the keyframe's own pixels at the frames it will be warped to
 // (keyframe/quad_validation.h, docs/quad-validation.md).
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/option_checks.h"
 #include "core/file_io.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_cache.h"
@@ -239,12 +237,12 @@ void addCheckQuadsCommand(CLI::App& app, Commands& commands) {
                   "With the split: largest departure of a leaf's pixels from its plane, in z' "
                   "units (2^24 scale; 0 = automatic: " +
                       misfitToleranceText() + ")")
-      ->check(CLI::Range(0.0, 1e9))
+      ->check(numberRange(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--tolerance-px", o.tolerancePx,
                   "Flag a quad when a pixel of it lands more than this many target pixels from "
                   "the keyframe pixel's own reprojection")
-      ->check(CLI::Range(1e-6, 1e6))
+      ->check(numberRange(1e-6, 1e6))
       ->capture_default_str();
   cmd->add_option("--min-bad-pixels", o.minBadPixels,
                   "Flag a quad only when at least this many of its pixels are over the tolerance")

@@ -1,8 +1,5 @@
 // The `lod` command.
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,28 +7,30 @@
 #include <filesystem>
 #include <string>
 
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/viewer.h"
-#include "session/bake.h"
-#include "session/export.h"
-#include "core/json_util.h"
-#include "session/schedule_calibration.h"
-#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/json_util.h"
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
-#include "app/cli_common.h"
+#include "session/bake.h"
+#include "session/export.h"
+#include "session/keyframe_planner.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 
 namespace hw::app {
 namespace {
@@ -111,7 +110,7 @@ void addLodCommand(CLI::App& app, Commands& commands) {
              "writes OUT (PNG) and OUT with .json (stats)");
   addCommon(lod, o.lodC);
   lod->add_option("--frame", o.lodFrame, "Frame index on the path to use as the keyframe")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   addTauText(lod, o.lodTau);
   lod->add_option("--criterion", o.lodCriterion, "five-point or per-axis-max")

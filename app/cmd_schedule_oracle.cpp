@@ -1,8 +1,5 @@
 // The `oracle` command.
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,29 +7,31 @@
 #include <filesystem>
 #include <string>
 
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/viewer.h"
-#include "session/bake.h"
-#include "session/export.h"
-#include "core/json_util.h"
-#include "session/schedule_calibration.h"
 #include "bench/schedule_oracle.h"
-#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/json_util.h"
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
-#include "app/cli_common.h"
+#include "session/bake.h"
+#include "session/export.h"
+#include "session/keyframe_planner.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 
 namespace hw::app {
 namespace {
@@ -145,10 +144,11 @@ void addScheduleOracleCommand(CLI::App& app, Commands& commands) {
   oracleCmd->add_flag("--probe-psnr-only", o.oracleProbePsnrOnly,
                       "Score only the probe predictors (not the default predictor's curves or "
                       "features.csv)");
-  oracleCmd->add_option("--probe-hole-mse", o.oracleProbeError.holeMse,
-                        "Probe predictors with --probe-no-previous-fill: squared error charged per "
-                        "hole pixel of the warped probe, (0-255)^2 units")
-      ->check(CLI::Range(0.0, 65025.0))
+  oracleCmd
+      ->add_option("--probe-hole-mse", o.oracleProbeError.holeMse,
+                   "Probe predictors with --probe-no-previous-fill: squared error charged per "
+                   "hole pixel of the warped probe, (0-255)^2 units")
+      ->check(numberRange(0.0, 65025.0))
       ->capture_default_str();
   oracleCmd->add_option("--probe-blur", o.oracleProbeError.blurRadius,
                         "Probe predictors: box-blur radius of the compared probes, probe pixels (0 = none)")

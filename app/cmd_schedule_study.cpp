@@ -1,8 +1,5 @@
 // The `study` command.
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,29 +7,31 @@
 #include <filesystem>
 #include <string>
 
+#include "app/cli_common.h"
+#include "app/commands.h"
 #include "app/viewer.h"
-#include "session/bake.h"
-#include "session/export.h"
-#include "core/json_util.h"
-#include "session/schedule_calibration.h"
 #include "bench/schedule_study.h"
-#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/json_util.h"
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
+#include "core/short_number.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
-#include "app/cli_common.h"
+#include "session/bake.h"
+#include "session/export.h"
+#include "session/keyframe_planner.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 
 namespace hw::app {
 namespace {
@@ -58,6 +57,10 @@ int run(ScheduleStudyCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** 
     if (std::string e = parseSpacings(o.studySpacings, 0, "", &so.fixedSpacings); !e.empty()) return fail(e);
     if (!o.studyTargets.empty() && !parseList(o.studyTargets, &so.targets))
       return fail("--targets: expected comma-separated dB values like 28,30,32, got '" + o.studyTargets + "'");
+    for (double t : so.targets)
+      if (!(t > 0 && t <= 200))
+        return fail("--targets: expected PSNR targets above 0 and at most 200 dB, got " +
+                    shortNumber(t));
     if (o.studyPlan.minGap > o.studyPlan.maxGap)
       return fail("--min-gap " + std::to_string(o.studyPlan.minGap) + " exceeds --max-gap " +
                   std::to_string(o.studyPlan.maxGap));

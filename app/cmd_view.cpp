@@ -1,8 +1,5 @@
 // The `view` command.
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,23 +8,20 @@
 #include <optional>
 #include <string>
 
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/viewer.h"
 #include "app/viewer_keys.h"
-#include "session/bake.h"
-#include "session/export.h"
-#include "core/json_util.h"
-#include "session/schedule_calibration.h"
-#include "session/presets.h"
-#include "session/walk.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/json_util.h"
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
 #include "scenes/camera_path.h"
@@ -35,7 +29,12 @@
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
-#include "app/cli_common.h"
+#include "session/bake.h"
+#include "session/export.h"
+#include "session/keyframe_planner.h"
+#include "session/presets.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 
 namespace hw::app {
 namespace {
@@ -171,9 +170,10 @@ void addViewCommand(CLI::App& app, Commands& commands) {
   viewCmd->add_flag("--geometry", o.viewGeometry, "Draw with the geometry renderer (--mode geometry)")
       ->excludes("--mode");
   viewCmd->add_flag("--no-hud", o.viewNoHud, "No on-screen text");
-  viewCmd->add_option("--exit-after", o.vo.exitAfterFrames,
-                      "Quit after this many frames (scripted runs; 0 = when closed)")
-      ->check(CLI::NonNegativeNumber)
+  viewCmd
+      ->add_option("--exit-after", o.vo.exitAfterFrames,
+                   "Quit after this many frames (scripted runs; 0 = when closed)")
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   viewCmd->add_option("--screenshot", o.vo.screenshotPath, "Write the last frame to this PNG on exit");
   viewCmd->add_option("--record", o.vo.recordPath,

@@ -1,8 +1,5 @@
 // The `walk` command.
-#include "app/commands.h"
-
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,32 +8,34 @@
 #include <optional>
 #include <string>
 
+#include "app/cli_common.h"
+#include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/viewer.h"
-#include "session/bake.h"
-#include "session/export.h"
-#include "core/json_util.h"
-#include "session/schedule_calibration.h"
-#include "session/planned_walk.h"
-#include "session/presets.h"
-#include "session/walk.h"
 #include "app/walk_plots.h"
-#include "report/walk_page.h"
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/json_util.h"
 #include "core/machine.h"
 #include "core/memory.h"
 #include "core/metrics.h"
 #include "core/timer.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe_db.h"
-#include "session/keyframe_planner.h"
 #include "keyframe/lod_builder.h"
 #include "keyframe/overlay.h"
+#include "report/walk_page.h"
 #include "scenes/camera_path.h"
 #include "scenes/fetch.h"
 #include "scenes/loader.h"
 #include "scenes/q3bsp.h"
-#include "app/cli_common.h"
+#include "session/bake.h"
+#include "session/export.h"
+#include "session/keyframe_planner.h"
+#include "session/planned_walk.h"
+#include "session/presets.h"
+#include "session/schedule_calibration.h"
+#include "session/walk.h"
 
 // The planner moved to session/; WalkCli's field still names it keyframe::
 // (the option definitions are being edited on main: rename there, then drop this).
@@ -302,7 +301,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    "of this many frames standard deviation, shrunk toward 0 by 2 samples' "
                    "weight; the error model then takes the residuals left, each calibration "
                    "segment's computed without its own samples), frames; 0 = off")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(numberRange(0.0, 1e6))
       ->capture_default_str();
   walk->add_option("--verify-rounds", o.walkVerifyRounds,
                    "Adaptive schedule, --plan-by walk-median, with a calibration: measure what the "
@@ -322,7 +321,7 @@ void addWalkCommand(CLI::App& app, Commands& commands) {
                    "costs measuring rounds, never the target (the schedule walked is guaranteed by "
                    "measured frames). 1 dB reached the fewest keyframes on all four 512x512 paths "
                    "measured, 0.5 dB on two (docs/results/2026-12-02/verified_plan)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(numberRange(0.0, 100.0))
       ->capture_default_str();
   addPlannerOptions(walk, o.walkPlan, o.walkPredictor, o.walkPlanBy, false);
   setGroups(walk, {{"Essentials", {"--help", "--help-markdown", "--scene", "--path", "--out", "--width", "--height",

@@ -4,12 +4,38 @@
 // Range/NonNegativeNumber compare with < and >, which NaN passes), and a path
 // option (--out, --diff, ...) must not be empty.
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
+#include "core/short_number.h"
+
 namespace hw::app {
+
+// CLI::Range for floating-point options, with the bounds written short
+// (CLI11's own writes them with std::to_string: 0.000100, and DBL_MAX as
+// 309 digits). `hi` infinite: no upper bound.
+inline CLI::Validator numberRange(double lo, double hi) {
+  const std::string range = std::isfinite(hi) ? shortNumber(lo) + " to " + shortNumber(hi)
+                                              : shortNumber(lo) + " and above";
+  return CLI::Validator(
+      [lo, hi, range](std::string& in) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(in.c_str(), &end);
+        if (in.empty() || end == in.c_str() || *end != '\0')
+          return "Value " + in + " is not a number (expected " + range + ")";
+        if (std::isnan(x)) return std::string();  // "expected a finite number", after parsing
+        if (!std::isfinite(x) || x < lo || x > hi) return "Value " + in + " not in range " + range;
+        return std::string();
+      },
+      "FLOAT in " + range, "RANGE");
+}
+
+// A number >= 0 (CLI::NonNegativeNumber, with a message of usual length).
+inline CLI::Validator nonNegativeNumber() {
+  return numberRange(0.0, std::numeric_limits<double>::infinity());
+}
 
 // Error text for the first offending option, or "" when all are fine.
 inline std::string checkParsedOptions(const CLI::App& app) {

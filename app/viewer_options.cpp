@@ -4,6 +4,7 @@
 
 #include "app/viewer.h"
 #include "app/viewer_keys.h"
+#include "core/short_number.h"
 
 namespace hw::app {
 
@@ -20,12 +21,11 @@ Status checkViewerOptions(const ViewerOptions& o) {
     return makeError("window size must be in [16, 16384] pixels, got " + std::to_string(o.width) +
                      "x" + std::to_string(o.height));
   if (!(o.lod.tau >= 0) || !std::isfinite(o.lod.tau))
-    return makeError("tau must be finite and >= 0, got " + std::to_string(o.lod.tau));
+    return makeError("tau must be finite and >= 0, got " + shortNumber(o.lod.tau));
   if (!(o.lod.tauParallaxPx >= 0) || !std::isfinite(o.lod.tauParallaxPx))
-    return makeError("tau-px must be finite and >= 0, got " + std::to_string(o.lod.tauParallaxPx));
+    return makeError("tau-px must be finite and >= 0, got " + shortNumber(o.lod.tauParallaxPx));
   if (!(o.lod.tauGradient >= 0) || !std::isfinite(o.lod.tauGradient))
-    return makeError("tau gradient must be finite and >= 0, got " +
-                     std::to_string(o.lod.tauGradient));
+    return makeError("tau gradient must be finite and >= 0, got " + shortNumber(o.lod.tauGradient));
   if (!(o.keyframeAngleDeg > 0 && o.keyframeAngleDeg < 180) || !(o.keyframeDistance >= 0) ||
       !std::isfinite(o.keyframeDistance))
     return makeError("keyframe thresholds: distance must be >= 0 and angle in (0, 180) degrees");

@@ -4,8 +4,10 @@
 
 #include "core/check.h"
 #include "core/memory.h"
-#include "keyframe/baseline_mesh.h"
+#include "core/memory_budget.h"
+#include "core/safe_io.h"
 #include "core/timer.h"
+#include "keyframe/baseline_mesh.h"
 
 namespace hw::keyframe {
 
@@ -107,9 +109,51 @@ KeyframeCache::KeyframeCache(GeometryRenderer& renderer, MeshSpec mesh,
                              std::function<Camera(int)> cameraOf, CacheOptions options)
     : renderer_(renderer), mesh_(mesh), cameraOf_(std::move(cameraOf)), options_(options) {
   HW_CHECK_GE(options_.prefetch, 0);
+  const std::uint64_t budget = memoryBudget(), charged = memoryCharged();
+  const std::uint64_t left = budget > charged ? budget - charged : 0;
+  bound_ = static_cast<std::size_t>(std::min<std::uint64_t>(options_.maxBytes, left));
 }
 
-KeyframeCache::~KeyframeCache() = default;
+KeyframeCache::~KeyframeCache() { releaseMemory(bytes_); }
+
+std::string KeyframeCache::budgetNote() const {
+  std::string note = entries_.empty()
+                         ? "the keyframe cache holds none yet"
+                         : "the keyframe cache holds " + std::to_string(entries_.size()) +
+                               " keyframe(s), " + formatBytes(bytes_);
+  if (cappedByBudget())
+    note += "; its bound is capped at " + formatBytes(bound_) +
+            " by the memory budget (--keyframe-cache-mb " +
+            std::to_string(options_.maxBytes >> 20) + " asked for more)";
+  return note;
+}
+
+Status KeyframeCache::admit(int frame) {
+  const Camera c = cameraOf_(frame);
+  const std::size_t px = static_cast<std::size_t>(std::max(c.width, 0)) *
+                         static_cast<std::size_t>(std::max(c.height, 0));
+  // colour, z', eye z and coverage (cachedKeyframeBytes without the quads)
+  const std::size_t pixels = px * (sizeof(Rgba8) + sizeof(double) + sizeof(float) + 1);
+  // Room within the bound first, keeping the two most recent entries (the
+  // pointers the caller may still hold).
+  std::vector<int> keep;
+  for (std::size_t i = entries_.size(); i-- > 0 && keep.size() < 2;)
+    keep.push_back(entries_[i]->frame);
+  for (std::size_t i = 0; i < entries_.size() && bytes_ + pixels > bound_;) {
+    if (std::find(keep.begin(), keep.end(), entries_[i]->frame) != keep.end()) {
+      ++i;
+      continue;
+    }
+    remove(i);
+    ++evictions_;
+  }
+  return checkMemoryCharge(
+      memoryCharged(), pixels, memoryBudget(),
+      "keyframe of frame " + std::to_string(frame) + ": " + std::to_string(c.width) + "x" +
+          std::to_string(c.height) + " colour and depth",
+      budgetNote() +
+          "; --max-memory raises the budget, a smaller --width/--height lowers the need");
+}
 
 void KeyframeCache::setSchedule(KeyframeSchedule schedule) {
   schedule_ = std::move(schedule);
@@ -127,17 +171,32 @@ std::unique_ptr<CachedKeyframe> KeyframeCache::freshEntry() {
   return std::make_unique<CachedKeyframe>();
 }
 
-void KeyframeCache::insert(std::unique_ptr<CachedKeyframe> e) {
+Status KeyframeCache::insert(std::unique_ptr<CachedKeyframe> e) {
   const std::size_t b = cachedKeyframeBytes(*e);
+  const int frame = e->frame;
+  const std::size_t quads = e->mesh.quads.size();
+  if (Status ok = chargeMemory(b,
+                               "keyframe of frame " + std::to_string(frame) +
+                                   ": colour, depth and " + std::to_string(quads) + " quads",
+                               budgetNote() + "; --max-memory raises the budget");
+      !ok) {
+    if (producer_ && !source_)
+      producer_->recycle(std::move(e));
+    else
+      spare_ = std::move(e);
+    return ok;
+  }
   entries_.push_back(std::move(e));
   entryBytes_.push_back(b);
   bytes_ += b;
   largestEntry_ = std::max(largestEntry_, b);
+  return {};
 }
 
 // Drops entry i; its buffers go back to the producer or become the spare.
 void KeyframeCache::remove(std::size_t i) {
   bytes_ -= entryBytes_[i];
+  releaseMemory(entryBytes_[i]);
   std::unique_ptr<CachedKeyframe> gone = std::move(entries_[i]);
   entries_.erase(entries_.begin() + static_cast<std::ptrdiff_t>(i));
   entryBytes_.erase(entryBytes_.begin() + static_cast<std::ptrdiff_t>(i));
@@ -149,7 +208,7 @@ void KeyframeCache::remove(std::size_t i) {
 
 // Least recently used first, skipping `keep`, until within the bound.
 void KeyframeCache::evict(const std::vector<int>& keep) {
-  for (std::size_t i = 0; i < entries_.size() && bytes_ > options_.maxBytes;) {
+  for (std::size_t i = 0; i < entries_.size() && bytes_ > bound_;) {
     if (std::find(keep.begin(), keep.end(), entries_[i]->frame) != keep.end()) {
       ++i;
       continue;
@@ -188,6 +247,7 @@ Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
     if (built) *built = false;
     return static_cast<const CachedKeyframe*>(entries_.back().get());
   }
+  HW_TRY(admit(frame));
   std::unique_ptr<CachedKeyframe> e;
   if (source_) {
     e = freshEntry();
@@ -209,7 +269,7 @@ Result<const CachedKeyframe*> KeyframeCache::get(int frame, bool* built) {
     HW_TRY(buildCachedKeyframe(renderer_, builder_, mesh_, cameraOf_(frame), frame, *e));
   }
   ++builds_;
-  insert(std::move(e));
+  HW_TRY(insert(std::move(e)));
   // Keep this entry and the one used before it (the other end of a bracket).
   std::vector<int> keep{frame};
   if (entries_.size() >= 2) keep.push_back(entries_[entries_.size() - 2]->frame);
@@ -249,20 +309,31 @@ Status KeyframeCache::prefetch(int frame) {
       }
       // Finished: moved in if it fits beside the entries still wanted,
       // otherwise it waits in the producer until get() takes it.
-      if (ahead && wantedBytes() + b > options_.maxBytes) continue;
+      if (ahead && wantedBytes() + b > bound_) continue;
       std::unique_ptr<CachedKeyframe> e;
       double waited = 0;
       HW_TRY(producer_->take(f, &e, &waited));
       ++builds_;
-      insert(std::move(e));
+      if (Status in = insert(std::move(e)); !in) {
+        if (ahead) break;  // over the budget: get() takes it when it is needed
+        return in;
+      }
     } else {
-      if (ahead && wantedBytes() + largestEntry_ > options_.maxBytes) break;
+      if (ahead && wantedBytes() + largestEntry_ > bound_) break;
+      if (Status room = admit(f); !room) {
+        if (ahead) break;
+        return room;
+      }
       std::unique_ptr<CachedKeyframe> e = freshEntry();
       HW_TRY(buildCachedKeyframe(renderer_, builder_, mesh_, cameraOf_(f), f, *e));
       ++builds_;
-      insert(std::move(e));
-      if (ahead && wantedBytes() > options_.maxBytes) {  // larger than any before: drop it
+      if (Status in = insert(std::move(e)); !in) {
+        if (ahead) break;
+        return in;
+      }
+      if (ahead && wantedBytes() > bound_) {  // larger than any before: drop it
         bytes_ -= entryBytes_.back();
+        releaseMemory(entryBytes_.back());
         entryBytes_.pop_back();
         spare_ = std::move(entries_.back());
         entries_.pop_back();

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -89,7 +90,10 @@ class KeyframeProducer {
 struct CacheOptions {
   // Bound on the bytes of the cached entries (cachedKeyframeBytes). The two
   // most recently used entries (a bracket) are always kept, so a bound below
-  // two keyframes holds two.
+  // two keyframes holds two. The run's memory budget (core/memory_budget.h)
+  // caps it at what the budget has left when the cache is made; every entry
+  // held is charged to the budget, and a keyframe that would pass the budget
+  // is refused (its pixel buffers before they are drawn) naming the frame.
   std::size_t maxBytes = std::size_t{256} << 20;
   // Keyframes past the current bracket that prefetch() builds or requests.
   int prefetch = 2;
@@ -140,9 +144,17 @@ class KeyframeCache {
   double stallMs() const { return stallMs_; }        // total time they waited
   double lastWaitMs() const { return lastWaitMs_; }  // of the last get() (0 if none)
   const CacheOptions& options() const { return options_; }
+  // The bound in force: options().maxBytes, or less when the memory budget
+  // capped it (cappedByBudget()).
+  std::size_t boundBytes() const { return bound_; }
+  bool cappedByBudget() const { return bound_ < options_.maxBytes; }
 
  private:
-  void insert(std::unique_ptr<CachedKeyframe> e);
+  Status insert(std::unique_ptr<CachedKeyframe> e);
+  // Refuses a keyframe of `frame` whose pixel buffers alone would pass the
+  // budget, before it is drawn; makes room within the bound for it first.
+  Status admit(int frame);
+  std::string budgetNote() const;
   void remove(std::size_t i);
   void evict(const std::vector<int>& keep);
   std::unique_ptr<CachedKeyframe> freshEntry();
@@ -155,6 +167,7 @@ class KeyframeCache {
   std::vector<std::unique_ptr<CachedKeyframe>> entries_;  // most recently used last
   std::unique_ptr<CachedKeyframe> spare_;                 // evicted, buffers reused
   std::vector<std::size_t> entryBytes_;                   // parallel to entries_
+  std::size_t bound_ = 0;                                 // maxBytes capped by the memory budget
   std::size_t builds_ = 0, bytes_ = 0, peakBytes_ = 0, evictions_ = 0, released_ = 0,
               largestEntry_ = 0;
   int stalls_ = 0;

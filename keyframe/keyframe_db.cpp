@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <bit>
+#include <cerrno>
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
@@ -18,6 +18,7 @@
 #include "core/file_io.h"
 #include "core/json_guard.h"
 #include "core/safe_io.h"
+#include "core/short_number.h"
 #include "core/timer.h"
 
 namespace hw::keyframe {
@@ -161,10 +162,10 @@ std::string badQuadCorner(const Quad& q, int width, int height) {
     if (!finiteVec(q.world[k])) return corner + " has a non-finite world position";
     const glm::dvec2 p = q.pixel[k];
     if (!(p.x >= -1.0 && p.x <= width + 1.0 && p.y >= -1.0 && p.y <= height + 1.0))
-      return corner + " lies outside the image (pixel " + std::to_string(p.x) + ", " +
-             std::to_string(p.y) + ")";
+      return corner + " lies outside the image (pixel " + shortNumber(p.x) + ", " +
+             shortNumber(p.y) + ")";
     if (!(std::isfinite(q.eyeZ[k]) && q.eyeZ[k] > 0.0))
-      return corner + " has eye depth " + std::to_string(q.eyeZ[k]) + ", expected finite > 0";
+      return corner + " has eye depth " + shortNumber(q.eyeZ[k]) + ", expected finite > 0";
   }
   return "";
 }

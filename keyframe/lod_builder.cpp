@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/check.h"
+#include "core/short_number.h"
 #include "core/timer.h"
 
 namespace hw::keyframe {
@@ -26,11 +27,11 @@ Status validateCamera(const Camera& c) {
   }
   if (!(c.fovYRadians > 0.0 && c.fovYRadians < 3.141592653589793)) {
     return makeError("LOD builder: camera fovYRadians must be in (0, pi), got " +
-                     std::to_string(c.fovYRadians));
+                     shortNumber(c.fovYRadians));
   }
   if (!(c.nearPlane > 0.0 && c.farPlane > c.nearPlane && std::isfinite(c.farPlane))) {
     return makeError("LOD builder: camera needs 0 < near < far < inf, got near " +
-                     std::to_string(c.nearPlane) + ", far " + std::to_string(c.farPlane));
+                     shortNumber(c.nearPlane) + ", far " + shortNumber(c.farPlane));
   }
   return {};
 }
@@ -203,24 +204,23 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
   }
   HW_TRY(validateCamera(camera));
   if (!(options.tau >= 0.0 && std::isfinite(options.tau))) {
-    return makeError("LOD builder: tau must be finite and >= 0, got " +
-                     std::to_string(options.tau));
+    return makeError("LOD builder: tau must be finite and >= 0, got " + shortNumber(options.tau));
   }
   if (!(options.tauParallaxPx >= 0.0 && std::isfinite(options.tauParallaxPx))) {
     return makeError("LOD builder: tauParallaxPx must be finite and >= 0, got " +
-                     std::to_string(options.tauParallaxPx));
+                     shortNumber(options.tauParallaxPx));
   }
   if (!(options.mergeToleranceZPrime >= 0.0 && std::isfinite(options.mergeToleranceZPrime))) {
     return makeError("LOD builder: mergeToleranceZPrime must be finite and >= 0, got " +
-                     std::to_string(options.mergeToleranceZPrime));
+                     shortNumber(options.mergeToleranceZPrime));
   }
   if (!(options.misfitToleranceZPrime >= 0.0 && std::isfinite(options.misfitToleranceZPrime))) {
     return makeError("LOD builder: misfitToleranceZPrime must be finite and >= 0, got " +
-                     std::to_string(options.misfitToleranceZPrime));
+                     shortNumber(options.misfitToleranceZPrime));
   }
   if (!(options.tauGradient >= 0.0 && std::isfinite(options.tauGradient))) {
     return makeError("LOD builder: tauGradient must be finite and >= 0, got " +
-                     std::to_string(options.tauGradient));
+                     shortNumber(options.tauGradient));
   }
   if (options.planarity != Planarity::Stencil && options.planarity != Planarity::RegionLocal) {
     return makeError("LOD builder: unknown planarity " +

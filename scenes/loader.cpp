@@ -77,12 +77,15 @@ class ConfinedIOSystem : public Assimp::DefaultIOSystem {
 
  private:
   // Some importers (LWS, Ogre) pass a referenced name as written, which the
-  // default file system would look up in the working directory: a relative
-  // name not found there is looked up beside the model.
+  // default file system would look up in the working directory; others (OBJ)
+  // pass the model's folder joined to it. A relative name is taken as given
+  // only when that lands inside the model's folder tree, else beside the
+  // model, so the working directory never decides what loads.
   std::string resolve(const char* file) const {
     std::error_code ec;
     const fs::path p(file);
-    if (p.is_absolute() || fs::exists(p, ec)) return file;
+    if (p.is_absolute()) return file;
+    if (fs::exists(p, ec) && insideTree(root_, p)) return file;
     const fs::path beside = root_ / p;
     return fs::exists(beside, ec) ? beside.string() : std::string(file);
   }
@@ -678,6 +681,7 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
       return glm::vec3(v.x, v.y, v.z);
     };
 
+    std::size_t repeatedFaces = 0, facesRead = 0;
     for (unsigned mi = 0; mi < ai->mNumMeshes; ++mi) {
       const aiMesh& m = *ai->mMeshes[mi];
       if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || m.mNumVertices == 0) continue;
@@ -711,9 +715,16 @@ Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options)
         for (int k = 0; k < 3; ++k) mesh.indices.push_back(face.mIndices[k]);
       }
       if (mesh.indices.empty()) continue;
+      repeatedFaces += dropRepeatedTriangles(mesh);
+      facesRead += m.mNumFaces;
       splitMesh(std::move(mesh), options.maxTrianglesPerMesh, scene.meshes);
     }
     if (scene.meshes.empty()) return makeError(path + ": contains no triangle meshes");
+    if (repeatedFaces > 0)
+      scene.warnings.push_back(path + ": " + std::to_string(repeatedFaces) + " of " +
+                               std::to_string(facesRead) +
+                               " faces repeat an earlier face of their mesh (the same corners); "
+                               "each is drawn once");
     scene.computeBounds();
     return scene;
   } catch (const std::bad_alloc&) {
@@ -818,9 +829,9 @@ Result<CameraPath> defaultPathFor(const std::string& spec, const DefaultPathOpti
   FloorWalkOptions walk;
   walk.eyeHeight = options.eyeHeight;
   auto floor = floorWalkPath(*scene, walk);
-  if (floor) return floor;
+  if (floor) return framedDefaultPath(*scene, std::move(*floor), notes);
   if (notes) notes->push_back(floor.error().message + "; the default path orbits the bounds instead");
-  return flythroughPathFor(*scene);
+  return framedDefaultPath(*scene, flythroughPathFor(*scene), notes);
 }
 
 }  // namespace hw::scenes

@@ -1,9 +1,54 @@
 #include "scenes/scene.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace hw::scenes {
+
+std::size_t dropRepeatedTriangles(Mesh& mesh) {
+  const std::size_t n = mesh.indices.size() / 3;
+  if (n < 2) return 0;
+  auto less = [](const glm::vec3& p, const glm::vec3& q) {
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  // Each triangle's corners from its least one on, winding kept.
+  std::vector<std::array<glm::vec3, 3>> key(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    std::array<glm::vec3, 3> c;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t i = mesh.indices[3 * t + k];
+      c[k] = i < mesh.vertices.size() ? mesh.vertices[i].position : glm::vec3(0.0f);
+    }
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < 3; ++k)
+      if (less(c[k], c[first])) first = k;
+    key[t] = {c[first], c[(first + 1) % 3], c[(first + 2) % 3]};
+  }
+  auto keyLess = [&](std::size_t a, std::size_t b) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (less(key[a][k], key[b][k])) return true;
+      if (less(key[b][k], key[a][k])) return false;
+    }
+    return false;
+  };
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), keyLess);  // equal keys: first one first
+  std::vector<char> repeat(n, 0);
+  for (std::size_t i = 1; i < n; ++i)
+    if (!keyLess(order[i - 1], order[i])) repeat[order[i]] = 1;
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    if (repeat[t]) continue;
+    for (std::size_t k = 0; k < 3; ++k) mesh.indices[3 * kept + k] = mesh.indices[3 * t + k];
+    ++kept;
+  }
+  mesh.indices.resize(3 * kept);
+  return n - kept;
+}
 
 void Mesh::computeBounds() {
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());

@@ -66,6 +66,13 @@ struct Scene {
   void computeBounds();  // from the meshes' bounds (calls Mesh::computeBounds)
 };
 
+// Removes every triangle of `mesh` whose corners (positions, in the same
+// cyclic order) repeat an earlier triangle's, keeping the first; returns how
+// many went. Invisible for the opaque renderer (a repeat drawn later fails the
+// depth test) but not free: 200000 copies of one face cost 200000 × its area
+// in fill on every frame.
+std::size_t dropRepeatedTriangles(Mesh& mesh);
+
 // The texture used where a file's texture cannot be found: a magenta/white
 // checker, 64×64, so the gap is visible (loaders also record a warning).
 Image<Rgba8> missingTexture();

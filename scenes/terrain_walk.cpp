@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/short_number.h"
+
 namespace hw::scenes {
 
 Result<CameraPath> terrainWalkPath(const TriangleGrid& grid,
@@ -20,8 +22,8 @@ Result<CameraPath> terrainWalkPath(const TriangleGrid& grid,
   auto ground = [&](const glm::dvec2& xz) -> Result<double> {
     const auto hits = grid.hitsBelow(glm::dvec3(xz.x, 1e6, xz.y));
     if (hits.empty())
-      return makeError("terrain walk: no ground below x=" + std::to_string(xz.x) +
-                       ", z=" + std::to_string(xz.y));
+      return makeError("terrain walk: no ground below x=" + shortNumber(xz.x) +
+                       ", z=" + shortNumber(xz.y));
     return hits.back();
   };
   CameraPath path;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "core/short_number.h"
 #include "scenes/model_common.h"
 #include "scenes/triangle_grid.h"
 
@@ -199,8 +200,8 @@ Result<std::vector<glm::dvec3>> roadCentreline(const Ac3dModel& track,
       if (static_cast<double>(line.size() - 1) * step >= options.traceMetres) return line;
       return makeError(s.name + ": the road ends " +
                        std::to_string(static_cast<int>(static_cast<double>(line.size()) * step)) +
-                       " m along the centreline trace (at x=" + std::to_string(q.x) +
-                       ", z=" + std::to_string(q.z) + "), before the " +
+                       " m along the centreline trace (at x=" + shortNumber(q.x) +
+                       ", z=" + shortNumber(q.z) + "), before the " +
                        std::to_string(static_cast<int>(options.traceMetres)) + " m asked for");
     }
     glm::dvec2 nd(c->x - p.x, c->z - p.z);

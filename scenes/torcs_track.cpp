@@ -16,6 +16,7 @@
 #include <unordered_set>
 
 #include "core/file_io.h"
+#include "core/short_number.h"
 #include "scenes/triangle_grid.h"
 
 namespace hw::scenes {
@@ -330,7 +331,7 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
   if (*w) {
     if (!(**w > 0.0 && **w < 1000.0))
       return makeError(source + ":" + std::to_string(main->attr("width")->line) +
-                       ": Main Track: width expected in (0, 1000) m, got " + std::to_string(**w));
+                       ": Main Track: width expected in (0, 1000) m, got " + shortNumber(**w));
     d.widthMetres = **w;
   }
   auto step = number(*main, "profil steps length", source, "Main Track");
@@ -373,7 +374,7 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
       if (!lg) return lg.error();
       if (!*lg || !(**lg > 0.0 && **lg < 1e5))
         return makeError(at + ": a straight needs 'lg' in (0, 100000) m, got " +
-                         (*lg ? std::to_string(**lg) : std::string("none")));
+                         (*lg ? shortNumber(**lg) : std::string("none")));
       seg.lengthMetres = **lg;
     } else {
       auto r = num("radius"), re = num("end radius"), arc = num("arc");
@@ -382,16 +383,15 @@ Result<TorcsTrackDescription> parseTorcsTrackXml(std::string_view text, const st
       if (!arc) return arc.error();
       if (!*r || !(**r > 0.0 && **r < 1e5))
         return makeError(at + ": an arc needs 'radius' in (0, 100000) m, got " +
-                         (*r ? std::to_string(**r) : std::string("none")));
+                         (*r ? shortNumber(**r) : std::string("none")));
       if (!*arc || !(**arc > 0.0 && **arc <= 4 * kPi))
-        return makeError(
-            at + ": an arc needs 'arc' in (0, 720] deg, got " +
-            (*arc ? std::to_string(**arc * 180.0 / kPi) + " deg" : std::string("none")));
+        return makeError(at + ": an arc needs 'arc' in (0, 720] deg, got " +
+                         (*arc ? shortNumber(**arc * 180.0 / kPi) + " deg" : std::string("none")));
       seg.radiusMetres = **r;
       seg.endRadiusMetres = *re ? **re : **r;
       if (!(seg.endRadiusMetres > 0.0 && seg.endRadiusMetres < 1e5))
         return makeError(at + ": 'end radius' expected in (0, 100000) m, got " +
-                         std::to_string(seg.endRadiusMetres));
+                         shortNumber(seg.endRadiusMetres));
       seg.arcRadians = **arc;
     }
     auto ps = num("profil steps"), psl = num("profil steps length");
@@ -482,7 +482,7 @@ Result<TorcsCentreline> integrateTorcsCentreline(const TorcsTrackDescription& tr
   double total = 0;
   for (const Piece& pc : pieces) total += pc.length;
   if (!(total > 0.0) || total > 1e6)
-    return makeError(track.source + ": main track length " + std::to_string(total) +
+    return makeError(track.source + ": main track length " + shortNumber(total) +
                      " m (expected between 0 and 1000 km)");
   out.lengthMetres = total;
   // Closure: the end back at the start, heading back to 0 (mod 2π).

@@ -33,18 +33,54 @@ double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm
   return glm::length(p - (a + ab * v + ac * w));
 }
 
+namespace {
+
+// Copies of one triangle (the same corners in the same cyclic order, so the
+// same facing) answer every query alike; a model made of many copies (200000
+// identical faces) would otherwise fill one cell with them and make each
+// query scan them all.
+template <typename Tri>
+void dropCoincident(std::vector<Tri>& tris) {
+  auto less = [](const glm::dvec3& p, const glm::dvec3& q) {
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  for (Tri& t : tris) {  // least corner first, winding kept
+    if (less(t.b, t.a) && !less(t.c, t.b))
+      t = Tri{t.b, t.c, t.a, t.twoSided};
+    else if (less(t.c, t.a) && less(t.c, t.b))
+      t = Tri{t.c, t.a, t.b, t.twoSided};
+  }
+  auto key = [&](const Tri& x, const Tri& y) {
+    if (x.a != y.a) return less(x.a, y.a);
+    if (x.b != y.b) return less(x.b, y.b);
+    if (x.c != y.c) return less(x.c, y.c);
+    return x.twoSided < y.twoSided;
+  };
+  std::sort(tris.begin(), tris.end(), key);
+  tris.erase(std::unique(tris.begin(), tris.end(),
+                         [](const Tri& x, const Tri& y) {
+                           return x.a == y.a && x.b == y.b && x.c == y.c &&
+                                  x.twoSided == y.twoSided;
+                         }),
+             tris.end());
+}
+
+}  // namespace
+
 TriangleGrid::TriangleGrid(const Scene& scene, double cellSize) : cellSize_(cellSize) {
   HW_CHECK(cellSize > 0);
   for (const Mesh& m : scene.meshes) {
-    if (m.material >= 0 && static_cast<std::size_t>(m.material) < scene.materials.size() &&
-        scene.materials[static_cast<std::size_t>(m.material)].sky)
-      continue;
+    const bool known =
+        m.material >= 0 && static_cast<std::size_t>(m.material) < scene.materials.size();
+    if (known && scene.materials[static_cast<std::size_t>(m.material)].sky) continue;
+    const bool twoSided = known && scene.materials[static_cast<std::size_t>(m.material)].twoSided;
     for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
       tris_.push_back({glm::dvec3(m.vertices[m.indices[i]].position),
                        glm::dvec3(m.vertices[m.indices[i + 1]].position),
-                       glm::dvec3(m.vertices[m.indices[i + 2]].position)});
+                       glm::dvec3(m.vertices[m.indices[i + 2]].position), twoSided});
   }
   if (tris_.empty()) return;
+  dropCoincident(tris_);
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (const Tri& t : tris_)
     for (const glm::dvec3& v : {t.a, t.b, t.c}) {
@@ -86,28 +122,29 @@ std::vector<double> TriangleGrid::hitsBelow(const glm::dvec3& from) const {
   const glm::dvec3 rel = (from - origin_) / cellSize_;
   if (rel.x < 0 || rel.z < 0 || rel.x >= dims_.x || rel.z >= dims_.z) return hits;
   const glm::ivec3 top = cellOf(from);
-  std::vector<std::uint32_t> seen;
-  for (int y = top.y; y >= 0; --y)
-    for (std::uint32_t i :
-         cells_[(static_cast<std::size_t>(top.z) * dims_.y + y) * dims_.x + top.x]) {
-      if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
-      seen.push_back(i);
-      const Tri& t = tris_[i];
-      // 2D barycentrics in XZ.
-      const double d = (t.b.z - t.c.z) * (t.a.x - t.c.x) + (t.c.x - t.b.x) * (t.a.z - t.c.z);
-      if (std::abs(d) < 1e-12) continue;
-      const double l1 =
-          ((t.b.z - t.c.z) * (from.x - t.c.x) + (t.c.x - t.b.x) * (from.z - t.c.z)) / d;
-      const double l2 =
-          ((t.c.z - t.a.z) * (from.x - t.c.x) + (t.a.x - t.c.x) * (from.z - t.c.z)) / d;
-      const double l3 = 1 - l1 - l2;
-      // A point on a shared edge (spawns and floors on the same grid) must
-      // not fall through the crack between two triangles.
-      constexpr double kEdge = -1e-7;
-      if (l1 < kEdge || l2 < kEdge || l3 < kEdge) continue;
-      const double h = l1 * t.a.y + l2 * t.b.y + l3 * t.c.y;
-      if (h <= from.y) hits.push_back(h);
-    }
+  // A triangle spanning several cells of the column is tested once.
+  std::vector<std::uint32_t> column;
+  for (int y = top.y; y >= 0; --y) {
+    const auto& c = cells_[(static_cast<std::size_t>(top.z) * dims_.y + y) * dims_.x + top.x];
+    column.insert(column.end(), c.begin(), c.end());
+  }
+  std::sort(column.begin(), column.end());
+  column.erase(std::unique(column.begin(), column.end()), column.end());
+  for (std::uint32_t i : column) {
+    const Tri& t = tris_[i];
+    // 2D barycentrics in XZ.
+    const double d = (t.b.z - t.c.z) * (t.a.x - t.c.x) + (t.c.x - t.b.x) * (t.a.z - t.c.z);
+    if (std::abs(d) < 1e-12) continue;
+    const double l1 = ((t.b.z - t.c.z) * (from.x - t.c.x) + (t.c.x - t.b.x) * (from.z - t.c.z)) / d;
+    const double l2 = ((t.c.z - t.a.z) * (from.x - t.c.x) + (t.a.x - t.c.x) * (from.z - t.c.z)) / d;
+    const double l3 = 1 - l1 - l2;
+    // A point on a shared edge (spawns and floors on the same grid) must
+    // not fall through the crack between two triangles.
+    constexpr double kEdge = -1e-7;
+    if (l1 < kEdge || l2 < kEdge || l3 < kEdge) continue;
+    const double h = l1 * t.a.y + l2 * t.b.y + l3 * t.c.y;
+    if (h <= from.y) hits.push_back(h);
+  }
   std::sort(hits.begin(), hits.end(), std::greater<>());
   return hits;
 }
@@ -136,7 +173,7 @@ bool TriangleGrid::segmentClear(const glm::dvec3& a, const glm::dvec3& b, double
 }
 
 std::optional<double> TriangleGrid::rayHit(const glm::dvec3& origin, const glm::dvec3& dir,
-                                           double maxDistance) const {
+                                           double maxDistance, bool frontOnly) const {
   if (tris_.empty()) return std::nullopt;
   // March through the cells the ray crosses (Amanatides & Woo 1987), testing
   // their triangles (Möller & Trumbore 1997); the nearest hit in a cell is
@@ -175,6 +212,8 @@ std::optional<double> TriangleGrid::rayHit(const glm::dvec3& origin, const glm::
       const glm::dvec3 e1 = t.b - t.a, e2 = t.c - t.a, p = glm::cross(dir, e2);
       const double det = glm::dot(e1, p);
       if (std::abs(det) < 1e-14) continue;
+      // det = −dir · (e1 × e2): positive when the ray meets the front (CCW) side.
+      if (frontOnly && !t.twoSided && det < 0) continue;
       const glm::dvec3 s = origin - t.a;
       const double u = glm::dot(s, p) / det;
       if (u < 0 || u > 1) continue;
@@ -197,7 +236,7 @@ std::optional<double> TriangleGrid::rayHit(const glm::dvec3& origin, const glm::
 }
 
 double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const glm::dvec3& forward,
-                        double fovYDeg, double maxDistance, int n) {
+                        double fovYDeg, double maxDistance, int n, bool frontOnly) {
   const glm::dvec3 w = glm::normalize(forward);
   glm::dvec3 u = glm::cross(w, glm::dvec3(0, 1, 0));
   if (glm::length(u) < 1e-9) u = glm::dvec3(1, 0, 0);
@@ -208,7 +247,7 @@ double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const g
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const double x = (2.0 * (i + 0.5) / n - 1.0) * h, y = (1.0 - 2.0 * (j + 0.5) / n) * h;
-      if (!grid.rayHit(eye, glm::normalize(w + x * u + y * v), maxDistance)) ++open;
+      if (!grid.rayHit(eye, glm::normalize(w + x * u + y * v), maxDistance, frontOnly)) ++open;
     }
   return static_cast<double>(open) / (n * n);
 }

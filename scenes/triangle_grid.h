@@ -29,15 +29,18 @@ class TriangleGrid {
   // triangle (checked at steps of clearance/2).
   bool segmentClear(const glm::dvec3& a, const glm::dvec3& b, double clearance) const;
   // Distance along the unit direction `dir` from `origin` to the first
-  // triangle hit (either side), or nullopt when none is within maxDistance.
-  std::optional<double> rayHit(const glm::dvec3& origin, const glm::dvec3& dir,
-                               double maxDistance) const;
+  // triangle hit (either side; with frontOnly, only sides the renderer draws:
+  // counter-clockwise fronts, and both sides of two-sided materials), or
+  // nullopt when none is within maxDistance.
+  std::optional<double> rayHit(const glm::dvec3& origin, const glm::dvec3& dir, double maxDistance,
+                               bool frontOnly = false) const;
 
   std::size_t triangleCount() const { return tris_.size(); }
 
  private:
   struct Tri {
     glm::dvec3 a, b, c;
+    bool twoSided = false;
   };
   glm::ivec3 cellOf(const glm::dvec3& p) const;
   const std::vector<std::uint32_t>* cell(const glm::ivec3& c) const;
@@ -65,8 +68,9 @@ EyeCheck checkEye(const TriangleGrid& grid, const glm::dvec3& eye, double maxCle
 // The fraction of a view that sees nothing within maxDistance (sky or void):
 // rays through an n × n grid of pixel centres of a camera at `eye` looking
 // along `forward` (up +Y, square image, vertical field of view fovYDeg).
+// frontOnly: surfaces the renderer culls (back faces) count as nothing.
 double openViewFraction(const TriangleGrid& grid, const glm::dvec3& eye, const glm::dvec3& forward,
-                        double fovYDeg, double maxDistance, int n = 16);
+                        double fovYDeg, double maxDistance, int n = 16, bool frontOnly = false);
 
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
 double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,

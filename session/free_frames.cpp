@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/gl/context.h"
+#include "core/short_number.h"
 #include "core/timer.h"
 
 namespace hw::session {
@@ -36,10 +37,10 @@ Result<std::unique_ptr<FreeFrames>> FreeFrames::create(const scenes::Scene& scen
                                                        bool writeEyeZ) {
   if (!(keyframes.distance > 0) || !std::isfinite(keyframes.distance))
     return makeError("keyframe distance: expected a finite number > 0 (scene units), got " +
-                     std::to_string(keyframes.distance));
+                     shortNumber(keyframes.distance));
   if (!(keyframes.angleDeg > 0) || !std::isfinite(keyframes.angleDeg))
     return makeError("keyframe angle: expected a finite number > 0 (degrees), got " +
-                     std::to_string(keyframes.angleDeg));
+                     shortNumber(keyframes.angleDeg));
   std::unique_ptr<FreeFrames> f(new FreeFrames(options, keyframes));
   HW_TRY(f->setUp(scene, writeEyeZ));
   return f;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/cli_common.h"
+#include "app/option_checks.h"
 #include "gapfill/compose.h"
 #include "gapfill/fallback.h"
 #include "keyframe/delta_buffer.h"
@@ -125,7 +126,7 @@ WalkRows lodRows() {
       "pixels per scene unit",
       "LOD threshold as parallax error per unit of camera motion (the same meaning indoors and "
       "out); 0 = use --tau",
-      CLI::NonNegativeNumber));
+      nonNegativeNumber()));
   rows.push_back(choiceRow<WalkOptions>(
       "--criterion", +[](WalkOptions& o) -> keyframe::DeltaCriterion& { return o.lod.criterion; },
       kCriteria, kLod, "Planarity test: five-point (paper's eq. 3) or per-axis-max (max(|Δ²x|,|Δ²y|))"));
@@ -183,8 +184,8 @@ WalkRows warpLodRows() {
 WalkRows holeRows() {
   return {
       togglePair<WalkOptions>(
-          "--render-holes", "--no-render-holes", +[](WalkOptions& o) -> bool& { return o.renderHoles; },
-          kComposition,
+          "--render-holes", "--no-render-holes",
+          +[](WalkOptions& o) -> bool& { return o.renderHoles; }, kComposition,
           "After the fallback, draw the larger holes with the geometry renderer: the "
           "16x16-pixel tiles holding at least 8 hole pixels, as up to 12 tight rectangles (the "
           "most holes first; scissored, the scene's clusters culled to each); isolated cracks "
@@ -197,7 +198,7 @@ WalkRows holeRows() {
           "first, while their estimated cost fits it and keeps the frame below one geometry "
           "frame. 0 = no cap; --mode hybrid draws every rectangle (frames independent of "
           "timings)",
-          CLI::Range(0.0, 100.0)),
+          numberRange(0.0, 100.0)),
   };
 }
 
@@ -214,11 +215,11 @@ WalkRows compositionRows() {
           "--layers says"),
       valueRow<WalkOptions, float>(
           "--blend-softness",
-          +[](WalkOptions& o) -> float& { return o.inBetween.compose.blendSoftness; },
-          kComposition, "radians or relative magnification",
+          +[](WalkOptions& o) -> float& { return o.inBetween.compose.blendSoftness; }, kComposition,
+          "radians or relative magnification",
           "With --compose blend: view penalty difference over which the two weights change by "
           "a factor e",
-          CLI::Range(1e-4, 10.0)),
+          numberRange(1e-4, 10.0)),
       choiceRow<WalkOptions>(
           "--fallback", +[](WalkOptions& o) -> gapfill::Fallback& { return o.inBetween.fallback; },
           kFallbacks, kComposition,
@@ -242,7 +243,7 @@ WalkRows compositionRows() {
           "triangles each) within this distance of a keyframe's eye are left out of that "
           "keyframe, and each frame draws as geometry the clusters within it of its own eye or "
           "of the keyframes it warps; 0 = off",
-          CLI::NonNegativeNumber),
+          nonNegativeNumber()),
       choiceRow<WalkOptions>(
           "--texcoords", +[](WalkOptions& o) -> warp::TexcoordMode& { return o.warp.texcoords; },
           kTexcoords, kComposition,
@@ -262,8 +263,8 @@ WalkRows compositionRows() {
           "--no-skip-previous", +[](WalkOptions& o) -> bool& { return o.inBetween.skipPrevious; },
           false, kComposition, "Run the previous-frame fill even when the layers leave no holes"),
       flagRow<WalkOptions>(
-          "--cull-background", +[](WalkOptions& o) -> bool& { return o.warp.cullBackground; },
-          true, kComposition,
+          "--cull-background", +[](WalkOptions& o) -> bool& { return o.warp.cullBackground; }, true,
+          kComposition,
           "Leave out background quads whose surfaces the foreground keyframe sees (they mostly "
           "land under foreground pixels; lossy: cracks along edges then come from the previous "
           "frame). Needs --primitives indexed or shared"),
@@ -295,14 +296,14 @@ WalkRows workerRows() {
           "the frame's time), steps (--keyframe-steps-per-frame steps per frame) or none (as "
           "fast as it can); lifted while a frame waits"),
       valueRow<WalkOptions, double>(
-          "--keyframe-budget-scale", +[](WalkOptions& o) -> double& { return o.keyframeBudgetScale; },
-          kKeyframes, "",
+          "--keyframe-budget-scale",
+          +[](WalkOptions& o) -> double& { return o.keyframeBudgetScale; }, kKeyframes, "",
           "With --keyframe-pacing time or slices: the worker's time per frame as a multiple of "
           "its even share (> 1 lets it get ahead)",
-          CLI::Range(1.0, 100.0)),
+          numberRange(1.0, 100.0)),
       valueRow<WalkOptions, int>(
-          "--keyframe-steps-per-frame", +[](WalkOptions& o) -> int& { return o.keyframeStepsPerFrame; },
-          kStudies, "steps",
+          "--keyframe-steps-per-frame",
+          +[](WalkOptions& o) -> int& { return o.keyframeStepsPerFrame; }, kStudies, "steps",
           "With --keyframe-pacing steps: worker steps (a flushed piece of the render, the "
           "readback, a mesh-build step) per frame",
           CLI::Range(1, 1000)),
@@ -389,7 +390,7 @@ WalkRows walkRows() {
   rows.push_back(parsedRow(
       "--keyframe-cache-mb", kKeyframes, "MiB", "MIB",
       "Memory bound of the keyframe cache (colour + depth + quad mesh; the two keyframes of "
-      "the current bracket are always kept)",
+      "the current bracket are always kept); capped by what --max-memory has left",
       [](const std::string& v, WalkOptions* o) -> std::string {
         char* end = nullptr;
         const double x = std::strtod(v.c_str(), &end);

@@ -235,6 +235,44 @@ printf '{"asset": {"version": "1.0"}, "bufferViews": {"v": {"buffer": "b", "byte
 printf 'glTF\001\000\000\000\030\000\000\000\004\000\000\000JSON{}  ' >"$tmp/v1.glb"
 awk 'BEGIN { print "v 0 0 0\nv 1 0 0\nv 0 1 0"; for (i = 0; i < 20000; i++) print "f 1 2 3" }' \
   >"$tmp/faces20k.obj"
+# 200000 copies of one face (was > 50 minutes for a default walk). Only written when used.
+if [[ $command == *faces200k.obj* ]]; then
+  awk 'BEGIN { print "v 0 0 0\nv 1 0 0\nv 0 1 0"; for (i = 0; i < 200000; i++) print "f 1 2 3" }' \
+    >"$tmp/faces200k.obj"
+fi
+# 80 MB of 'f 1 2 3' (10 million faces): took 42 s and 3 GB, then a bare
+# std::bad_alloc. Only written when used.
+if [[ $command == *faces80mb.obj* ]]; then
+  { printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n'; yes 'f 1 2 3' | head -n 10000000; } >"$tmp/faces80mb.obj"
+fi
+# LightWave scenes naming their object by a bare name, as LWS does: one
+# beside the scene, one in the folder above; a decoy of the same name in
+# another folder, the working directory of the rows that use it.
+mkdir -p "$tmp/model/lws" "$tmp/elsewhere"
+python3 - "$tmp" <<'PYEOF' || { echo "FAIL $id: python3 is needed to write the LWO fixtures"; exit 1; }
+import struct, sys
+t = sys.argv[1]
+def chunk(tag, data, size='>I'):
+    if len(data) % 2: data += b'\0'
+    return tag + struct.pack(size, len(data)) + data
+def s0(s):
+    b = s.encode() + b'\0'
+    return b + (b'\0' if len(b) % 2 else b'')
+def lwo(path):  # LWO2: one layer, a unit quad as two triangles, one surface
+    pts = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)]
+    body = b'LWO2' + chunk(b'TAGS', s0('Default'))
+    body += chunk(b'LAYR', struct.pack('>HH3f', 0, 0, 0, 0, 0) + s0(''))
+    body += chunk(b'PNTS', b''.join(struct.pack('>3f', *p) for p in pts))
+    body += chunk(b'POLS', b'FACE' + struct.pack('>8H', 3, 0, 1, 2, 3, 1, 3, 2))
+    body += chunk(b'PTAG', b'SURF' + struct.pack('>4H', 0, 0, 1, 0))
+    body += chunk(b'SURF', s0('Default') + s0('') + chunk(b'COLR', struct.pack('>3fH', 0.8, 0.2, 0.2, 0), '>H'))
+    open(path, 'wb').write(b'FORM' + struct.pack('>I', len(body)) + body)
+lwo(t + '/model/lws/beside.lwo')
+lwo(t + '/model/outside.lwo')
+lwo(t + '/elsewhere/beside.lwo')
+open(t + '/model/lws/beside.lws', 'w').write('LWSC\n5\n\nLoadObjectLayer 1 10000000 beside.lwo\n')
+open(t + '/model/lws/up.lws', 'w').write('LWSC\n5\n\nLoadObjectLayer 1 10000000 ../outside.lwo\n')
+PYEOF
 python3 - "$tmp" <<'EOF' || { echo "FAIL $id: python3 is needed to write the hostile fixtures"; exit 1; }
 import base64, json, os, socket, struct, sys, zlib
 t = sys.argv[1]

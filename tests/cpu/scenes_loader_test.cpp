@@ -8,9 +8,11 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/file_io.h"
 #include "scenes/loader.h"
+#include "scenes/triangle_grid.h"
 
 namespace hw::scenes {
 namespace {
@@ -293,18 +295,85 @@ TEST_F(LoaderTest, FileSpecAndFlythrough) {
   auto s = loadScene(obj);
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_EQ(s->triangleCount(), 12u);
-  auto p = defaultPathFor(obj);
+  std::vector<std::string> notes;
+  auto p = defaultPathFor(obj, DefaultPathOptions{}, &notes);
   ASSERT_TRUE(p.ok()) << p.error().message;
   EXPECT_GT(p->farPlane, p->nearPlane);
-  for (int i = 0; i < p->frames; ++i) {
-    const Camera c = p->cameraAt(i);
-    for (int k = 0; k < 3; ++k) {
-      EXPECT_GE(c.eye[k], s->boundsMin[k] - 1e-6);
-      EXPECT_LE(c.eye[k], s->boundsMax[k] + 1e-6);
-    }
+  // A closed box with outward faces: a path inside it would see only back
+  // faces (culled, a one-colour frame); the default path orbits outside and
+  // every key sees the box.
+  const TriangleGrid grid(*s, 0.1);
+  EXPECT_EQ(keysSeeingSurfaces(grid, *p), static_cast<int>(p->keys.size()));
+  for (const CameraKey& k : p->keys) {
+    bool outside = false;
+    for (int a = 0; a < 3; ++a)
+      outside = outside || k.eye[a] < s->boundsMin[a] || k.eye[a] > s->boundsMax[a];
+    EXPECT_TRUE(outside);
   }
+  bool said = false;
+  for (const std::string& n : notes) said = said || n.find("orbiting outside") != std::string::npos;
+  EXPECT_TRUE(said);
   // The path survives its own JSON format.
   EXPECT_TRUE(parseCameraPath(cameraPathToJson(*p), "fly.json").ok());
+}
+
+// One one-sided triangle: the default path frames it, swinging in front of
+// it (an orbit would see its back, which is not drawn, half the time).
+TEST_F(LoaderTest, DefaultPathOfOneTriangleFramesIt) {
+  const std::string obj = write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  auto s = loadScene(obj);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  std::vector<std::string> notes;
+  auto p = defaultPathFor(obj, DefaultPathOptions{}, &notes);
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  const TriangleGrid grid(*s, 0.1);
+  EXPECT_EQ(keysSeeingSurfaces(grid, *p), static_cast<int>(p->keys.size()));
+  CameraPath first = *p;
+  first.keys.resize(1);
+  EXPECT_EQ(keysSeeingSurfaces(grid, first), 1);
+  EXPECT_GT(p->keys[0].eye.z, 0.0);  // the triangle's front faces +z
+}
+
+// 20000 copies of one face are drawn once, with a warning saying so.
+TEST_F(LoaderTest, RepeatedFacesAreDrawnOnce) {
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+  for (int i = 0; i < 20000; ++i) text += i % 2 ? "f 1 2 3\n" : "f 2 3 1\n";
+  text += "f 3 2 1\nf 2 4 3\n";  // the back of the first, and another face
+  auto s = loadScene(write("repeat.obj", text));
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(s->triangleCount(), 3u);
+  ASSERT_FALSE(s->warnings.empty());
+  EXPECT_NE(s->warnings.front().find("19999 of 20002 faces repeat"), std::string::npos)
+      << s->warnings.front();
+}
+
+// A referenced file is looked up beside the model, whatever the working
+// directory holds; one outside the model's folder is refused from anywhere.
+TEST_F(LoaderTest, ReferencesResolveAgainstTheModelsFolder) {
+  fs::create_directories(dir_ / "model");
+  fs::create_directories(dir_ / "elsewhere");
+  write("model/m.mtl", "newmtl m\nKd 1 0 0\n");
+  write("elsewhere/m.mtl", "newmtl m\nKd 0 1 0\n");  // same name, another folder
+  write("outside.mtl", "newmtl m\nKd 0 0 1\n");
+  const std::string beside =
+      write("model/beside.obj", "mtllib m.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string up = write(
+      "model/up.obj", "mtllib ../outside.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const fs::path cwd = fs::current_path();
+  for (const fs::path& from : {dir_ / "elsewhere", dir_ / "model", fs::path("/")}) {
+    fs::current_path(from);
+    auto b = loadSceneFile(beside);
+    auto u = loadSceneFile(up);
+    fs::current_path(cwd);
+    ASSERT_TRUE(b.ok()) << from << ": " << b.error().message;
+    ASSERT_FALSE(b->meshes.empty());
+    EXPECT_EQ(b->materials.at(static_cast<std::size_t>(b->meshes[0].material)).baseColour,
+              glm::vec4(1, 0, 0, 1))
+        << from;
+    ASSERT_FALSE(u.ok()) << from;
+    EXPECT_NE(u.error().message.find("outside the model's folder"), std::string::npos)
+        << u.error().message;
+  }
 }
 
 }  // namespace

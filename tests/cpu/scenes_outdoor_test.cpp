@@ -313,6 +313,29 @@ TEST(Outdoor, TriangleGridAgreesWithBruteForce) {
   EXPECT_FALSE(fg.segmentClear({1, 3.5, 1}, {3, 4.5, 3}, 1.0));
 }
 
+// Copies of one triangle (corners in any order) are one surface to the grid:
+// a model of 20000 identical faces answers as one face does.
+TEST(Outdoor, TriangleGridDropsCoincidentCopies) {
+  Scene s;
+  s.materials.push_back(Material{});
+  Mesh m;
+  m.vertices = {Vertex{{0, 1, 0}}, Vertex{{4, 1, 0}}, Vertex{{0, 1, 4}}, Vertex{{0, 3, 0}}};
+  for (int k = 0; k < 20000; ++k) {
+    if (k % 2)
+      m.indices.insert(m.indices.end(), {0, 1, 2});
+    else
+      m.indices.insert(m.indices.end(), {2, 0, 1});
+  }
+  m.indices.insert(m.indices.end(), {0, 1, 3});  // a different (vertical) face
+  s.meshes.push_back(m);
+  const TriangleGrid grid(s, 0.5);
+  EXPECT_EQ(grid.triangleCount(), 2u);
+  const auto hits = grid.hitsBelow({1.0, 10.0, 1.0});
+  ASSERT_EQ(hits.size(), 1u);
+  EXPECT_NEAR(hits[0], 1.0, 1e-9);
+  EXPECT_NEAR(grid.distanceToNearest({1.0, 1.5, 1.0}, 2.0), 0.5, 1e-9);
+}
+
 // ---------------------------------------------------------------- real data
 
 Result<Scene> realScene(const std::string& spec) {
