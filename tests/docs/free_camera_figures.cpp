@@ -1,8 +1,9 @@
 // The figure docs/api.md gives for cameras fed one at a time: the built-in
 // indoor scene's default path through Renderer::render(camera) with the
 // default options, each frame measured against renderGeometry at the same
-// camera. Prints one line that scripts/docs_figures.py reads:
-//   free camera: SCENE, N frames WxH, K keyframes built, one every F frames, warped W, PSNR median P dB
+// camera. Prints one line that scripts/docs_figures.py reads: "free camera:
+// SCENE, N frames WxH, K keyframes built, one every F frames, warped W, PSNR
+// median P dB".
 #include <hybridwalk/hybridwalk.h>
 
 #include <algorithm>
