@@ -96,7 +96,8 @@ int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     if (!o.vo.screenshotPath.empty()) {
       const std::string dir = std::filesystem::path(o.vo.screenshotPath).parent_path().string();
       if (!dir.empty())
-        if (auto st = ensureWritableDir(dir); !st) return fail("--screenshot: " + st.error().message);
+        if (auto st = ensureWritableDir(dir); !st)
+          return fail("--screenshot: " + st.error().message);
     }
     std::optional<scenes::CameraPath> played;
     if (!o.viewC.path.empty()) {

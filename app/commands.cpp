@@ -4,11 +4,11 @@
 namespace hw::app {
 
 void addAllCommands(CLI::App& app, Commands& commands) {
-  for (auto add : {addWalkCommand, addRenderCommand, addLodCommand, addSweepCommand,
-                   addBakeCommand, addBenchCommand, addExportCommand, addViewCommand,
-                   addCompareCommand, addStressCommand, addScheduleStudyCommand,
-                   addScheduleOracleCommand, addScenesCommand, addPathCommand,
-                   addCheckQuadsCommand, addPublishCommand, addReportCommand, addInfoCommand})
+  for (auto add :
+       {addWalkCommand, addRenderCommand, addLodCommand, addSweepCommand, addBakeCommand,
+        addBenchCommand, addExportCommand, addViewCommand, addCompareCommand, addStressCommand,
+        addScheduleStudyCommand, addScheduleOracleCommand, addScenesCommand, addPathCommand,
+        addCheckQuadsCommand, addPublishCommand, addReportCommand, addInfoCommand})
     add(app, commands);
 }
 

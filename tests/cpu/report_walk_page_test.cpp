@@ -90,7 +90,8 @@ TEST(WalkSummary, KeyframeStallsAreTheReportsCount) {
   std::string all;
   for (const auto& d : walkSummaryText(s).details) all += d + "\n";
   EXPECT_NE(all.find("0 keyframe stalls (a frame waited for a keyframe; warm-up excluded)"),
-            std::string::npos) << all;
+            std::string::npos)
+      << all;
   EXPECT_NE(all.find("1 wait for a keyframe, 35.3 ms in all"), std::string::npos) << all;
   s["keyframe_stalls"] = 3;
   s["keyframe_stall_ms"]["count"] = 4;

@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
   if (!scene) return std::fprintf(stderr, "error: %s\n", scene.error().message.c_str()), 1;
   auto path = scene->defaultPath();
   if (!path) return std::fprintf(stderr, "error: %s\n", path.error().message.c_str()), 1;
-  if (path->cameras.empty()) return std::fprintf(stderr, "error: %s: empty default path\n", spec), 1;
+  if (path->cameras.empty())
+    return std::fprintf(stderr, "error: %s: empty default path\n", spec), 1;
   auto renderer = Renderer::create(*scene, RendererDesc{});
   if (!renderer) return std::fprintf(stderr, "error: %s\n", renderer.error().message.c_str()), 1;
   Frame frame, reference;
@@ -33,12 +34,14 @@ int main(int argc, char** argv) {
     if (frame.stats.kind == FrameKind::Warped) psnrs.push_back(psnr(frame, reference));
   }
   if (psnrs.empty() || built == 0)
-    return std::fprintf(stderr, "error: %s: no frame warped (%d keyframes built)\n", spec, built), 1;
+    return std::fprintf(stderr, "error: %s: no frame warped (%d keyframes built)\n", spec, built),
+           1;
   std::sort(psnrs.begin(), psnrs.end());
   const std::size_t n = path->cameras.size();
-  std::printf("free camera: %s, %zu frames %dx%d, %d keyframes built, one every %.1f frames, "
-              "warped %zu, PSNR median %.1f dB\n",
-              spec, n, path->cameras[0].width, path->cameras[0].height, built,
-              static_cast<double>(n) / built, psnrs.size(), psnrs[psnrs.size() / 2]);
+  std::printf(
+      "free camera: %s, %zu frames %dx%d, %d keyframes built, one every %.1f frames, "
+      "warped %zu, PSNR median %.1f dB\n",
+      spec, n, path->cameras[0].width, path->cameras[0].height, built,
+      static_cast<double>(n) / built, psnrs.size(), psnrs[psnrs.size() / 2]);
   return 0;
 }
