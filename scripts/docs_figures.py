@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""docs/api.md's figures, from real runs.
+"""The figures docs/api.md and README.md quote, from real runs.
 
 The page quotes examples/embed_headless's output (quads, holes and PSNR per
 frame, the median and minimum PSNR), names the frames that carry a
@@ -12,12 +12,20 @@ exits 1 naming every figure that differs (the CTest cli.docs_figures).
 Times and the GL renderer's name vary with the machine and are not
 compared; the frames do not vary.
 
+It also checks (and rewrites) the figures README.md quotes from commands:
+the quad count of `hybridwalk lod --scene indoor --frame 0` and frame 5's
+PSNR in the overview's caption, and the published size of the indoor walk;
+rewriting, it draws docs/images/overview.png again from the same runs.
+
 Usage: docs_figures.py [--check] BIN_DIR [SOURCE_DIR]
 """
+import json
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 MARKER = "<!-- output of examples/embed_headless, written by scripts/docs_figures.py -->"
 FRAME = re.compile(r"^frame +(\d+) +(keyframe|warped) ")
@@ -71,6 +79,73 @@ def cost_frames(lines):
     return out
 
 
+def set_groups(text, rx, values):
+    """TEXT with the groups of RX's first match replaced by VALUES."""
+    m = rx.search(text)
+    parts, last = [], m.start()
+    for g, value in enumerate(values, 1):
+        parts += [text[last:m.start(g)], value]
+        last = m.end(g)
+    return text[: m.start()] + "".join(parts) + text[last:]
+
+
+# The README's figures: the overview's caption (the quad count of `lod`,
+# frame 5's PSNR) and the published size of the indoor walk.
+README_LOD = re.compile(r"\(`hybridwalk lod --scene indoor --frame 0`\):\s+([0-9,]+) quads")
+README_FRAME5 = re.compile(r"`hybridwalk walk --scene indoor --mode hybrid --save-frames`\),\s+not\s+"
+                           r"rendered\s+but\s+warped\s+from\s+keyframes\s+0\s+and\s+10:\s+([0-9.]+) dB")
+README_PUBLISH = re.compile(r"--out out/site/indoor +# ([0-9.]+) MB for the 120-frame indoor walk")
+
+
+def readme_figures(hw, work):
+    """Runs the commands the README quotes; (figures, overview picture parts)."""
+    def go(*args):
+        env = dict(os.environ, LP_NUM_THREADS=os.environ.get("LP_NUM_THREADS", "2"))
+        p = subprocess.run([hw, *args], capture_output=True, text=True, env=env, timeout=300)
+        if p.returncode != 0:
+            fail(f"hybridwalk {' '.join(args)} exited {p.returncode}: {p.stderr.strip()[-300:]}")
+        return p.stdout
+    lod = os.path.join(work, "lod.png")
+    m = re.search(r"^(\d+) quads", go("lod", "--scene", "indoor", "--frame", "0", "--out", lod), re.M)
+    if not m:
+        fail("hybridwalk lod printed no quad count")
+    quads = f"{int(m.group(1)):,}"
+    walk = os.path.join(work, "walk")
+    # Frame 5 lies between keyframes 0 and 10: the first 11 frames give it.
+    go("walk", "--scene", "indoor", "--mode", "hybrid", "--save-frames", "--frames", "11",
+       "--strips", "0", "--quiet", "--out", walk)
+    f5 = json.load(open(os.path.join(walk, "report.json")))["frames"][5]
+    if f5.get("keyframes") != [0, 10] or f5.get("psnr") is None:
+        fail(f"frame 5 of the indoor walk is not warped from keyframes 0 and 10: {f5.get('keyframes')}")
+    db, site = os.path.join(work, "db"), os.path.join(work, "site")
+    go("bake", "--scene", "indoor", "--quiet", "--out", db)
+    m = re.search(r" ([0-9.]+) MB in ", go("publish", "--keyframes", db, "--out", site))
+    if not m:
+        fail("hybridwalk publish printed no size")
+    figures = {README_LOD: (quads,), README_FRAME5: (f"{f5['psnr']:.1f}",),
+               README_PUBLISH: (m.group(1),)}
+    return figures, (lod, os.path.join(walk, "frames", "0005.png"))
+
+
+def write_overview(path, left, right):
+    """docs/images/overview.png: the two pictures side by side, 8 white pixels
+    apart (pngquant, when installed, makes it small)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import contact_sheet
+    (wl, h, bl, rl), (wr, hr, br, rr) = contact_sheet.read_png(left), contact_sheet.read_png(right)
+    if h != hr:
+        fail(f"{left} and {right} differ in height")
+    gap = 8
+
+    def rgb(src, w, bpp):
+        return b"".join(src[x * bpp:x * bpp + 3] for x in range(w))
+    rows = [rgb(rl[y], wl, bl) + b"\xff" * (3 * gap) + rgb(rr[y], wr, br) for y in range(h)]
+    contact_sheet.write_png(path, wl + gap + wr, h, rows)
+    if shutil.which("pngquant"):
+        subprocess.run(["pngquant", "--force", "--speed", "1", "--output", path, "64", path],
+                       check=False)
+
+
 def comparable(line):
     """A quoted line without what varies with the machine."""
     line = MS.sub(" <ms> ", line)
@@ -93,6 +168,19 @@ def main():
     if not free_m:
         fail("unexpected output of docs_free_camera:\n" + "\n".join(free))
     free_now = free_m.groups()
+    readme_path = os.path.join(src, "README.md")
+    readme = open(readme_path, encoding="utf-8").read()
+    for rx in (README_LOD, README_FRAME5, README_PUBLISH):
+        if not rx.search(readme):
+            fail(f"{readme_path}: no text matching {rx.pattern}")
+    with tempfile.TemporaryDirectory() as work:
+        readme_now, overview = readme_figures(os.path.join(bindir, "hybridwalk"), work)
+        return compare_or_write(check, src, doc_path, doc, lines, free, free_now, readme_path,
+                                readme, readme_now, overview)
+
+
+def compare_or_write(check, src, doc_path, doc, lines, free, free_now, readme_path, readme,
+                     readme_now, overview):
 
     # The output block after the marker.
     block = re.search(re.escape(MARKER) + r"\n```\n(.*?)\n```\n", doc, re.S)
@@ -112,17 +200,21 @@ def main():
             fail(f"{doc_path}: the {name} sentence ({rx.pattern}) is not there")
 
     if not check:
+        # A line that differs only in what varies with the machine is kept.
+        have = block.group(1).split("\n")
+        if len(have) == len(want):
+            want = [h if comparable(h) == comparable(w) else w for h, w in zip(have, want)]
         doc = doc[: block.start(1)] + "\n".join(want) + doc[block.end(1):]
         doc = cost_re.sub(f"carries its cost (frames {cost[0]} and {cost[1]} here)", doc)
         doc = glfw_re.sub(f"`examples/embed_glfw/main.cpp` ({glfw_lines} lines)", doc)
-        m = FREE_DOC.search(doc)
-        parts, last = [], m.start()
-        for g, value in enumerate(free_now, 1):
-            parts += [doc[last:m.start(g)], value]
-            last = m.end(g)
-        doc = doc[: m.start()] + "".join(parts) + doc[last:]
+        doc = set_groups(doc, FREE_DOC, free_now)
         open(doc_path, "w", encoding="utf-8").write(doc)
-        print(f"docs_figures: wrote {doc_path} ({want[-1]})")
+        for rx, values in readme_now.items():
+            readme = set_groups(readme, rx, values)
+        open(readme_path, "w", encoding="utf-8").write(readme)
+        write_overview(os.path.join(src, "docs", "images", "overview.png"), *overview)
+        print(f"docs_figures: wrote {doc_path}, {readme_path} and docs/images/overview.png "
+              f"({want[-1]})")
         return 0
 
     bad = []
@@ -138,12 +230,16 @@ def main():
     got = int(glfw_re.search(doc).group(1))
     if got != glfw_lines:
         bad.append(f"examples/embed_glfw/main.cpp: the page says {got} lines, it has {glfw_lines}")
+    for rx, values in readme_now.items():
+        got = rx.search(readme).groups()
+        if got != values:
+            bad.append(f"README.md: '{rx.search(readme).group(0)}' gives {got}, the program {values}")
     got = FREE_DOC.search(doc).groups()
     if got != free_now:
         bad.append(f"cameras fed one at a time (frames, width, height, frames per keyframe, "
                    f"PSNR median): the page says {got}, the program {free_now}")
     if bad:
-        print("docs/api.md disagrees with what the code produces (regenerate: "
+        print("docs/api.md or README.md disagrees with what the code produces (regenerate: "
               "python3 scripts/docs_figures.py build/bin):")
         print("\n".join(bad))
         return 1
