@@ -89,8 +89,15 @@ int run(ViewCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     o.vo.sceneLabel = o.viewC.scene;
     o.vo.keyframeEvery = o.viewC.keyframeEvery;
     o.vo.hud = !o.viewNoHud;
-    // The cheap inputs first: a wrong path file or database folder fails
-    // before the scene loads.
+    // The cheap inputs first: a wrong path file or database folder, or a
+    // screenshot folder that cannot be written, fails before the scene loads
+    // (the folder is made, as --out folders are).
+    if (!o.vo.screenshotPath.empty()) {
+      const std::string dir = std::filesystem::path(o.vo.screenshotPath).parent_path().string();
+      if (!dir.empty())
+        if (auto st = ensureWritableDir(dir); !st)
+          return fail("--screenshot: " + st.error().message);
+    }
     std::optional<scenes::CameraPath> played;
     if (!o.viewC.path.empty()) {
       auto pp = scenes::loadCameraPath(o.viewC.path);

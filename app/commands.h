@@ -33,4 +33,8 @@ void addPublishCommand(CLI::App& app, Commands& commands);
 void addReportCommand(CLI::App& app, Commands& commands);
 void addInfoCommand(CLI::App& app, Commands& commands);
 
+// Every command above, in the order `hybridwalk --help` lists them: the
+// program's parser (app/main.cpp) and the tests that check its help.
+void addAllCommands(CLI::App& app, Commands& commands);
+
 }  // namespace hw::app

@@ -44,24 +44,7 @@ int runMain(int argc, char** argv) {
   app.set_version_flag("--version", "hybridwalk 0.1");
 
   Commands commands;
-  addWalkCommand(app, commands);
-  addRenderCommand(app, commands);
-  addLodCommand(app, commands);
-  addSweepCommand(app, commands);
-  addBakeCommand(app, commands);
-  addBenchCommand(app, commands);
-  addExportCommand(app, commands);
-  addViewCommand(app, commands);
-  addCompareCommand(app, commands);
-  addStressCommand(app, commands);
-  addScheduleStudyCommand(app, commands);
-  addScheduleOracleCommand(app, commands);
-  addScenesCommand(app, commands);
-  addPathCommand(app, commands);
-  addCheckQuadsCommand(app, commands);
-  addPublishCommand(app, commands);
-  addReportCommand(app, commands);
-  addInfoCommand(app, commands);
+  addAllCommands(app, commands);
 
   if (!knownCommand(app, argc, argv, 1)) return kExitUsage;
   if (argc > 1 && std::string(argv[1]) == "scenes" &&

@@ -165,12 +165,17 @@ WalkSummaryText walkSummaryText(const json& s) {
                                     : " built (when first needed)");
   if (text(s, "mode") == "auto" && built >= 0 && built < scheduled)
     k += "; segments drawn as geometry need none";
-  // Frames that waited for a keyframe: those with a stall time (the count
-  // and the total of one series).
-  const int waited = count(member(s, "keyframe_stall_ms"), "count");
-  if (waited >= 0)
-    k += "; " + std::to_string(waited) + (waited == 1 ? " frame" : " frames") +
-         " waited for a keyframe (keyframe stalls), " +
+  // Keyframe stalls as report.json counts them (keyframe_stalls: frames'
+  // keyframe gets that waited, the warm-up's excluded), then every wait
+  // timed (keyframe_stall_ms: its count and total), which may include a
+  // wait before frame 0.
+  const int stalls = count(s, "keyframe_stalls");
+  const int waits = count(member(s, "keyframe_stall_ms"), "count");
+  if (stalls >= 0)
+    k += "; " + std::to_string(stalls) + (stalls == 1 ? " keyframe stall" : " keyframe stalls") +
+         " (a frame waited for a keyframe; warm-up excluded)";
+  if (waits >= 0)
+    k += "; " + std::to_string(waits) + (waits == 1 ? " wait" : " waits") + " for a keyframe, " +
          ms(numberOrNan(member(s, "keyframe_stall_ms_total"))) + " in all";
   t.details.push_back(k);
 

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <thread>
 
 #include "app/gl/viewer_impl.h"
@@ -534,9 +535,14 @@ Status Viewer::finish() {
 
 // The frames, how they were drawn (with --mode auto when it chose geometry),
 // their times, and the keyframe stalls and waits.
+// "keyframes built" counts every keyframe rendered for this viewer, in the
+// frame or taken from the worker (as the walk's summary counts them).
 void Viewer::printSummary() const {
-  std::printf("hybridwalk view: %ld frames, %ld keyframes built, %ld read from a database; last frame: %s\n",
-              frameIndex_, keyframesBuilt_, keyframesRead_,
+  const std::string onWorker =
+      worker_ ? " (" + std::to_string(keyframesFromWorker_) + " on the worker thread)" : "";
+  std::printf("hybridwalk view: %ld frames, %ld keyframes built%s, %ld read from a database; last "
+              "frame: %s\n",
+              frameIndex_, keyframesBuilt_ + keyframesFromWorker_, onWorker.c_str(), keyframesRead_,
               !stats_.hybrid       ? "geometry"
               : stats_.direct      ? "hybrid, a keyframe at this camera shown as is"
               : stats_.layers == 2 ? "hybrid, two keyframes warped"

@@ -194,7 +194,7 @@ void Viewer::hudStatsText() {
              : lastKeyframe_.fromWorker ? "worker render (wall ms, paced)"
                                         : "render",
              lastKeyframe_.renderMs, lastKeyframe_.lodMs, lastKeyframe_.uploadMs,
-             lastKeyframe_.quads, keyframesBuilt_, keyframesRead_,
+             lastKeyframe_.quads, keyframesBuilt_ + keyframesFromWorker_, keyframesRead_,
              s.builtKeyframe || s.readKeyframe ? " (one this frame)" : "", thresholdText().c_str(),
              kfDistance_, kfAngle_ * 180 / kPi);
     } else {

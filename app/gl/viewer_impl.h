@@ -254,7 +254,7 @@ class Viewer {
   char psnrText_[128] = {};
   double psnrUntil_ = 0;
   double frameMsSmoothed_ = 0;
-  long keyframesBuilt_ = 0;
+  long keyframesBuilt_ = 0;  // rendered in the frame (the worker's: keyframesFromWorker_)
   long keyframesRead_ = 0;
   long frameIndex_ = 0;
   // Baked keyframes (ViewerOptions::keyframeDb).

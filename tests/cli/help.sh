@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --help of every command: lines within 100 columns, no flag shown with a
+# --help of every command, nested ones too: lines within 100 columns, no flag shown with a
 # misleading "{false}"; docs/walk-options.md is what `walk --help-markdown`
 # prints; bad command lines exit 2 with "hybridwalk: error:" first and name a
 # close option or command; inputs are checked before the scene loads;
@@ -17,15 +17,23 @@ widest() {  # the widest line of a file, in characters (UTF-8)
   python3 -c 'import sys; print(max((len(l.rstrip("\n")) for l in open(sys.argv[1], encoding="utf-8")), default=0))' "$1"
 }
 check "top-level help within 100 columns ($(widest top.txt))" test "$(widest top.txt)" -le 100
-for c in $commands; do
-  "$hw" $c --help >help_$c.txt 2>&1
+subcommands() { awk '/^Subcommands:/ { on = 1; next } on && /^  [a-z]/ { print $1 }' "$1"; }
+helped=0
+check_help() {  # check_help COMMAND [SUBCOMMAND]: its --help, then its subcommands'
+  local f rc
+  f="help_$(tr ' ' _ <<<"$*").txt"
+  "$hw" "$@" --help >"$f" 2>&1
   rc=$?
-  check "$c --help exits 0 (got $rc)" test $rc -eq 0
-  check "$c --help within 100 columns (widest $(widest help_$c.txt))" test "$(widest help_$c.txt)" -le 100
-  check "$c --help shows no {false}/{true}" bash -c "! grep -q '{false}\|{true}' help_$c.txt"
-done
-"$hw" scenes fetch --help >help_fetch.txt 2>&1
-check "scenes fetch --help within 100 columns" test "$(widest help_fetch.txt)" -le 100
+  helped=$((helped + 1))
+  check "$* --help exits 0 (got $rc)" test $rc -eq 0
+  check "$* --help within 100 columns (widest $(widest "$f"))" test "$(widest "$f")" -le 100
+  check "$* --help shows no {false}/{true}" bash -c "! grep -q '{false}\|{true}' '$f'"
+  local s
+  for s in $(subcommands "$f"); do check_help "$@" "$s"; done
+}
+for c in $commands; do check_help "$c"; done
+check "every command's help, nested ones too ($helped: 18 commands, scenes fetch and list)" \
+  test "$helped" -ge 20
 
 # The defaults the walk's help shows for the options issue 40 found wrong.
 for f in "render-holes, --no-render-holes" "merge-strips, --no-merge-strips" \

@@ -30,6 +30,13 @@ cat async.out
 check "names the worker" grep -q "keyframes rendered ahead on a worker thread" async.out
 check "the first keyframe (at least) came from the worker" \
   grep -Eq "keyframes async: [1-9][0-9]* from the worker" async.out
+check "keyframes built include the worker's (one count, one meaning)" python3 -c '
+import re, sys
+t = open("async.out").read()
+b = re.search(r"(\d+) keyframes built \((\d+) on the worker thread\)", t)
+w = re.search(r"keyframes async: (\d+) from the worker", t)
+ok = b and w and int(b.group(2)) == int(w.group(1)) and int(b.group(1)) >= int(w.group(1)) > 0
+print(b and b.group(0), w and w.group(0)); sys.exit(0 if ok else 1)'
 check "summary has median / p95 / max frame ms" \
   grep -Eq "frame ms over frames 1..15: median [0-9.]+, p95 [0-9.]+, max [0-9.]+" async.out
 check "sync summary counts its stalls" grep -Eq "keyframes in the frame: [1-9][0-9]* stalls" sync.out
@@ -57,7 +64,7 @@ rc=$?; check "bake exits 0" test $rc -eq 0
   --no-hud --async-keyframes --screenshot baked_async.png >baked_async.out 2>&1
 rc=$?; check "async view --keyframes exits 0 ($(tail -1 baked_async.out))" test $rc -eq 0
 check "  every keyframe read from the database, none rendered" \
-  grep -q "11 frames, 0 keyframes built, 4 read from a database" baked_async.out
+  grep -q "11 frames, 0 keyframes built (0 on the worker thread), 4 read from a database" baked_async.out
 check "  nothing taken from the worker" grep -q "keyframes async: 0 from the worker" baked_async.out
 "$hw" compare baked_async.png baked.png >cmpb.out 2>&1
 check "  same frame as without the worker ($(cat cmpb.out))" grep -q "differing_pixels 0 of 19200" cmpb.out

@@ -25,7 +25,11 @@ for key in '"frame_ms"' '"frame_ms_p95_over_median"' '"in_between_frame_ms"' \
 done
 check "acquisition is async" grep -q '"keyframe_acquisition": "async"' "$r"
 check "sync report says sync" grep -q '"keyframe_acquisition": "sync"' "$tmp/sync/report.json"
-check "stdout names stalls" grep -q "keyframe stalls" "$tmp/async.stdout"
+check "stdout's keyframe stalls are the report's keyframe_stalls" python3 -c "
+import json, re, sys
+m = re.search(r'(\d+) keyframe stalls? ', open('$tmp/async.stdout').read())
+s = json.load(open('$r'))['summary']
+print(m and m.group(1), s['keyframe_stalls']); sys.exit(0 if m and int(m.group(1)) == s['keyframe_stalls'] else 1)"
 check "cache stayed within 16 MiB" python3 -c "
 import json,sys; s=json.load(open('$r'))['summary']; sys.exit(0 if s['keyframe_cache_peak_mb'] <= 16 else 1)"
 check "per-frame keyframe worker ms: on every frame, not negative, summing to at most the worker's busy time and to more than 0" python3 -c "

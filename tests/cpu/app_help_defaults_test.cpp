@@ -24,12 +24,7 @@ struct Program {
   Program() {
     app.formatter(std::make_shared<GroupedHelp>());
     app.require_subcommand(1);
-    for (auto add : {addWalkCommand, addRenderCommand, addLodCommand, addSweepCommand,
-                     addBakeCommand, addBenchCommand, addExportCommand, addViewCommand,
-                     addCompareCommand, addStressCommand, addScheduleStudyCommand,
-                     addScheduleOracleCommand, addScenesCommand, addPathCommand,
-                     addCheckQuadsCommand, addPublishCommand, addReportCommand, addInfoCommand})
-      add(app, commands);
+    addAllCommands(app, commands);
   }
 };
 

@@ -79,6 +79,28 @@ TEST(WalkSummary, CountsHaveOneNameAndAddUp) {
   EXPECT_EQ(all.find("nan"), std::string::npos) << all;
 }
 
+// "keyframe stalls" is report.json's keyframe_stalls (warm-up excluded); the
+// timed waits (keyframe_stall_ms, which may hold one before frame 0) are
+// counted under their own name.
+TEST(WalkSummary, KeyframeStallsAreTheReportsCount) {
+  json s = indoorSummary();
+  s["keyframe_stalls"] = 0;
+  s["keyframe_stall_ms"] = {{"median", 35.3}, {"p5", 35.3}, {"p95", 35.3}, {"count", 1}};
+  s["keyframe_stall_ms_total"] = 35.3;
+  std::string all;
+  for (const auto& d : walkSummaryText(s).details) all += d + "\n";
+  EXPECT_NE(all.find("0 keyframe stalls (a frame waited for a keyframe; warm-up excluded)"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("1 wait for a keyframe, 35.3 ms in all"), std::string::npos) << all;
+  s["keyframe_stalls"] = 3;
+  s["keyframe_stall_ms"]["count"] = 4;
+  all.clear();
+  for (const auto& d : walkSummaryText(s).details) all += d + "\n";
+  EXPECT_NE(all.find("3 keyframe stalls"), std::string::npos) << all;
+  EXPECT_NE(all.find("4 waits for a keyframe"), std::string::npos) << all;
+}
+
 TEST(WalkSummary, FewerBuiltThanScheduledSaysWhy) {
   json s = indoorSummary();
   s["keyframes"] = 1;
