@@ -134,6 +134,7 @@ class WalkLoop {
   int deferredSegment_ = -1;    // the keyframe of the segment deferred last (-1: none)
   int warmupStalls_ = 0;
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
+  bool warmingUp_ = false;   // getSource called before the first frame
   double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
   bool builtThisFrame_ = false;
 
@@ -246,7 +247,10 @@ Status WalkLoop::warmUp() {
     HW_TRY(calibrateModes());
     warping_ = chooser_.warpNext(false, segmentLength(0));
     if (warping_ && frames_ > 1) {
-      HW_TRY(calibrateWarp(schedule_.bracket(0).first));
+      warmingUp_ = true;
+      const Status cal = calibrateWarp(schedule_.bracket(0).first);
+      warmingUp_ = false;
+      HW_TRY(cal);
       warping_ = chooser_.warpNext(false, segmentLength(0));
     }
     decidedAt_ = 0;
@@ -480,7 +484,8 @@ Status WalkLoop::getSource(int k, const keyframe::CachedKeyframe** kfOut) {
   if (!kf) return kf.error();
   *kfOut = *kf;
   auto& s = recorder_.series;
-  if (cache_->lastWaitMs() > 0) {
+  // Waits before the first frame (warm-up) are warmup_ms's, not stalls.
+  if (cache_->lastWaitMs() > 0 && !warmingUp_) {
     frameWaitMs_ += cache_->lastWaitMs();
     s.stallMs.push_back(cache_->lastWaitMs());
   }
