@@ -139,14 +139,7 @@ Status KeyframeCache::admit(int frame) {
   std::vector<int> keep;
   for (std::size_t i = entries_.size(); i-- > 0 && keep.size() < 2;)
     keep.push_back(entries_[i]->frame);
-  for (std::size_t i = 0; i < entries_.size() && bytes_ + pixels > bound_;) {
-    if (std::find(keep.begin(), keep.end(), entries_[i]->frame) != keep.end()) {
-      ++i;
-      continue;
-    }
-    remove(i);
-    ++evictions_;
-  }
+  evict(keep, pixels);
   return checkMemoryCharge(
       memoryCharged(), pixels, memoryBudget(),
       "keyframe of frame " + std::to_string(frame) + ": " + std::to_string(c.width) + "x" +
@@ -206,9 +199,10 @@ void KeyframeCache::remove(std::size_t i) {
     spare_ = std::move(gone);
 }
 
-// Least recently used first, skipping `keep`, until within the bound.
-void KeyframeCache::evict(const std::vector<int>& keep) {
-  for (std::size_t i = 0; i < entries_.size() && bytes_ > bound_;) {
+// Least recently used first, skipping `keep`, until `incoming` more bytes fit
+// within the bound.
+void KeyframeCache::evict(const std::vector<int>& keep, std::size_t incoming) {
+  for (std::size_t i = 0; i < entries_.size() && bytes_ + incoming > bound_;) {
     if (std::find(keep.begin(), keep.end(), entries_[i]->frame) != keep.end()) {
       ++i;
       continue;

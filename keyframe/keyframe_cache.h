@@ -156,7 +156,7 @@ class KeyframeCache {
   Status admit(int frame);
   std::string budgetNote() const;
   void remove(std::size_t i);
-  void evict(const std::vector<int>& keep);
+  void evict(const std::vector<int>& keep, std::size_t incoming = 0);
   std::unique_ptr<CachedKeyframe> freshEntry();
 
   GeometryRenderer& renderer_;
