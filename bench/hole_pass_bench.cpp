@@ -11,21 +11,12 @@
 
 #include "core/file_io.h"
 #include "core/gl/context.h"
+#include "core/timer.h"
 #include "gapfill/hole_rects.h"
 #include "keyframe/geometry_renderer.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
 #include "session/walk.h"
-
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace hw;

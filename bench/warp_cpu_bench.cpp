@@ -3,7 +3,8 @@
 // warper and by the CPU warper on 1 and 2 threads, in turn, in one process
 // (ratios hold on a shared machine): keyframes every `gap` frames of the
 // scene's default path at 512², every frame between them warped.
-// Usage: warp_cpu_bench SCENE [GAP=10] [FRAMES=60]
+// Usage: warp_cpu_bench SCENE [GAP=10] [FRAMES=60]; ONLY=K in the environment times
+// variant K alone (0 GL, 1 CPU 1 thread, 2 CPU 2 threads), for profiling.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
