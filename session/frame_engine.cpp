@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/check.h"
+#include "core/gl/gl_api.h"
 #include "core/timer.h"
 #include "keyframe/analytic_scene.h"
 #include "keyframe/lod_builder.h"
@@ -42,10 +43,24 @@ Result<std::unique_ptr<FrameEngine>> FrameEngine::create(const scenes::Scene& sc
   e->wopt_ = options.warp;
   e->wopt_.writeEyeZ = options.inBetween.needsEyeZ() || writeEyeZ;
   e->wopt_.markLargeQuads = e->wopt_.markLargeQuads && markLargeQuads;
-  auto warper = warp::Warper::create(e->wopt_);
-  if (!warper) return warper.error();
-  e->warper_ = std::move(*warper);
+  HW_TRY(e->createWarper(options.warper));
   return e;
+}
+
+Status FrameEngine::createWarper(warp::WarperChoice choice) {
+  const std::string unsupported = warp::cpuWarperUnsupported(wopt_);
+  const char* rendererName = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const bool software = rendererName && warp::isSoftwareRasteriser(rendererName);
+  if (choice == warp::WarperChoice::Cpu && !unsupported.empty())
+    return makeError("--warper cpu: the CPU warper does not support " + unsupported +
+                     "; use --warper gl or auto");
+  cpuWarper_ = choice == warp::WarperChoice::Cpu ||
+               (choice == warp::WarperChoice::Auto && software && unsupported.empty());
+  auto warper = cpuWarper_ ? warp::createCpuWarper(wopt_, kCpuWarperThreads)
+                           : warp::Warper::create(wopt_);
+  if (!warper) return warper.error();
+  warper_ = std::move(*warper);
+  return {};
 }
 
 void FrameEngine::present() {

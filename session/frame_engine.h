@@ -66,6 +66,8 @@ class FrameEngine {
 
   keyframe::GeometryRenderer& renderer() { return *renderer_; }
   warp::Warper& warper() { return *warper_; }
+  // Whether the layers are drawn by the CPU warper (WalkOptions::warper).
+  bool cpuWarper() const { return cpuWarper_; }
   const warp::WarpOptions& warpOptions() const { return wopt_; }
   InBetweenStep& step() { return step_; }
   const InBetweenOptions& inBetweenOptions() const { return step_.options(); }
@@ -126,8 +128,14 @@ class FrameEngine {
   InBetweenStep step_;
   DepthMode depthMode_;
   std::unique_ptr<keyframe::GeometryRenderer> renderer_;
+  // The CPU warper's threads: one, beside the keyframe worker and the GL
+  // rasteriser's threads on the same cores (measured: docs/results).
+  static constexpr int kCpuWarperThreads = 1;
+  Status createWarper(warp::WarperChoice choice);
+
   warp::WarpOptions wopt_;
   std::unique_ptr<warp::Warper> warper_;
+  bool cpuWarper_ = false;
   std::map<int, Entry> keyframes_;
   HolePass holePass_;
   HoleCostModel holeCost_;

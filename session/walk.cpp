@@ -1058,6 +1058,8 @@ void WalkLoop::summariseLod(json& s) const {
   s["texcoords"] = warp::texcoordModeName(opt_.warp.texcoords);
   s["sky_backdrop"] = opt_.warp.skyBackdrop;
   s["layers"] = ib.fused() ? "fused" : "separate";
+  s["warper_option"] = warp::warperChoiceName(opt_.warper);
+  s["warper"] = engine_->cpuWarper() ? "cpu" : "gl";
   s["near_distance"] = ib.nearDistance;
   s["fallback"] = gapfill::fallbackName(ib.fallback);
   s["render_holes"] = opt_.renderHoles;

@@ -21,6 +21,7 @@
 #include "scenes/scene.h"
 #include "session/frame_mode.h"
 #include "session/in_between.h"
+#include "warp/cpu_warper.h"
 #include "warp/warper.h"
 
 namespace hw::session {
@@ -44,6 +45,9 @@ struct WalkOptions {
   // Composition, layers, skips and near geometry of the in-between frames.
   InBetweenOptions inBetween;
   warp::WarpOptions warp;                       // texcoords, sky backdrop
+  // Which warper draws the layers; Auto: the CPU warper on a CPU rasteriser
+  // (llvmpipe), where it measured faster, else GL (warp/cpu_warper.h).
+  warp::WarperChoice warper = warp::WarperChoice::Auto;
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path
   // Output (all optional; empty outDir = write nothing).

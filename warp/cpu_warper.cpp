@@ -224,19 +224,20 @@ struct Raster {
     float iw = t.invW.a + t.invW.ax * static_cast<float>(xa) + t.invW.ay * static_cast<float>(fy);
     for (int c0 = xa; c0 <= xb; c0 += kChunkRuns * kRun) {
       const int c1 = std::min(xb, c0 + kChunkRuns * kRun - 1);
+      // Exact texcoords at each run's first pixel and at the chunk's last.
       int nRuns = 0;
+      std::int64_t u0, v0;
+      texel(c0, u0, v0);
       for (int x0 = c0; x0 <= c1; x0 += kRun) {
         const int n = std::min(kRun, c1 - x0 + 1);
-        std::int64_t u0, v0, u1, v1;
-        texel(x0, u0, v0);
-        std::int64_t du = 0, dv = 0;
-        if (n > 1) {
-          texel(x0 + n - 1, u1, v1);
-          du = (u1 - u0) / (n - 1);
-          dv = (v1 - v0) / (n - 1);
-        }
-        runs[nRuns++] = {static_cast<std::int32_t>(u0), static_cast<std::int32_t>(du),
-                         static_cast<std::int32_t>(v0), static_cast<std::int32_t>(dv)};
+        const int next = x0 + n < c1 + 1 ? x0 + n : c1;  // the next run's first, or the last
+        std::int64_t u1 = u0, v1 = v0;
+        if (next > x0) texel(next, u1, v1);
+        const int steps = std::max(1, next - x0);
+        runs[nRuns++] = {static_cast<std::int32_t>(u0), static_cast<std::int32_t>((u1 - u0) / steps),
+                         static_cast<std::int32_t>(v0), static_cast<std::int32_t>((v1 - v0) / steps)};
+        u0 = u1;
+        v0 = v1;
       }
       const std::size_t i0 = rowBase + static_cast<std::size_t>(c0);
       const int count = c1 - c0 + 1;
@@ -712,7 +713,20 @@ class CpuWarper final : public Warper {
       for (int y = row0; y < row1; ++y) {
         const std::uint8_t* c = rb.coverage + static_cast<std::size_t>(y) * w;
         int n = 0, lo = -1, hi = -1;
-        for (std::size_t x = 0; x < w; ++x)
+        std::size_t x = 0;
+        for (; x + 8 <= w; x += 8) {
+          std::uint64_t word8;
+          std::memcpy(&word8, c + x, 8);
+          // No zero byte in the word: nothing empty here.
+          if (((word8 - 0x0101010101010101ull) & ~word8 & 0x8080808080808080ull) == 0) continue;
+          for (std::size_t k = x; k < x + 8; ++k)
+            if (c[k] == 0) {
+              ++n;
+              if (lo < 0) lo = static_cast<int>(k);
+              hi = static_cast<int>(k);
+            }
+        }
+        for (; x < w; ++x)
           if (c[x] == 0) {
             ++n;
             if (lo < 0) lo = static_cast<int>(x);
@@ -754,6 +768,21 @@ class CpuWarper final : public Warper {
 };
 
 }  // namespace
+
+const char* warperChoiceName(WarperChoice c) {
+  switch (c) {
+    case WarperChoice::Auto: return "auto";
+    case WarperChoice::Gl: return "gl";
+    case WarperChoice::Cpu: return "cpu";
+  }
+  return "?";
+}
+
+bool isSoftwareRasteriser(const std::string& glRenderer) {
+  for (const char* name : {"llvmpipe", "softpipe", "swrast", "SWR"})
+    if (glRenderer.find(name) != std::string::npos) return true;
+  return false;
+}
 
 std::string cpuWarperUnsupported(const WarpOptions& o) {
   if (o.subdivision != Subdivision::None) return "--subdivide other than none";

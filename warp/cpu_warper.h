@@ -21,6 +21,19 @@
 
 namespace hw::warp {
 
+// Which warper draws the layers (walk/view --warper).
+enum class WarperChoice {
+  Auto,  // the CPU warper where OpenGL is itself a CPU rasteriser and the
+         // options allow it (isSoftwareRasteriser), else the GL warper
+  Gl,
+  Cpu,
+};
+const char* warperChoiceName(WarperChoice c);  // "auto", "gl", "cpu"
+
+// Whether GL_RENDERER names a CPU rasteriser (Mesa's llvmpipe, softpipe,
+// swrast), where the CPU warper is the faster one.
+bool isSoftwareRasteriser(const std::string& glRenderer);
+
 // Empty when `options` can be warped on the CPU, else what cannot.
 std::string cpuWarperUnsupported(const WarpOptions& options);
 

@@ -54,6 +54,9 @@ const auto kPacings = enumNames<session::KeyframePacing>(
     session::keyframePacingName);
 // Layers: the two names of InBetweenOptions::fusedLayers.
 const std::vector<std::pair<std::string, bool>> kLayers = {{"fused", true}, {"separate", false}};
+const auto kWarpers = enumNames<warp::WarperChoice>(
+    {warp::WarperChoice::Auto, warp::WarperChoice::Gl, warp::WarperChoice::Cpu},
+    warp::warperChoiceName);
 
 OptionRow<WalkOptions> withHelp(OptionRow<WalkOptions> r, std::string help) {
   r.help = std::move(help);
@@ -202,6 +205,16 @@ WalkRows holeRows() {
   };
 }
 
+OptionRow<WalkOptions> warperRow() {
+  return choiceRow<WalkOptions, warp::WarperChoice>(
+      "--warper", +[](WalkOptions& o) -> warp::WarperChoice& { return o.warper; }, kWarpers,
+      kComposition,
+      "What draws the warped layers: auto (cpu where OpenGL is itself a CPU rasteriser, such "
+      "as Mesa's llvmpipe, and the options allow it; else gl), gl (textured quads through "
+      "OpenGL) or cpu (the same quads rasterised on the CPU, 8 pixels at a time; no "
+      "--subdivide, --primitives points, --texcoords affine or --cull-background)");
+}
+
 WalkRows compositionRows() {
   WalkRows rows = {
       choiceRow<WalkOptions>(
@@ -236,6 +249,7 @@ WalkRows compositionRows() {
           "background drawn only where the foreground left pixels empty, one readback) or "
           "separate (the paper's two layers read back and composed on the CPU). Depth-merge "
           "always uses separate"),
+      warperRow(),
       valueRow<WalkOptions, double>(
           "--near", +[](WalkOptions& o) -> double& { return o.inBetween.nearDistance; },
           kComposition, "scene units",
@@ -447,6 +461,7 @@ WalkRows viewRows() {
       "--geometry); g switches between hybrid and geometry by hand (and ends auto)"));
   for (auto& r : lodRows()) rows.push_back(r);
   for (auto& r : holeRows()) rows.push_back(r);
+  rows.push_back(warperRow());
   rows.push_back(withHelp(
       asyncRow(),
       "Render and mesh keyframes ahead on a worker thread with a second OpenGL context (a "

@@ -55,7 +55,7 @@ TEST_P(InBetweenStepTest, GivesTheWalksFrameBitForBit) {
   ASSERT_TRUE(renderer.ok()) << renderer.error().message;
   warp::WarpOptions wopt = wo.warp;
   wopt.writeEyeZ = ib.needsEyeZ();
-  auto warper = warp::Warper::create(wopt);
+  auto warper = test::warperOfWalk(walk->report, wopt);
   ASSERT_TRUE(warper.ok()) << warper.error().message;
   keyframe::Keyframe kf[2];
   std::unique_ptr<warp::WarpSource> src[2];

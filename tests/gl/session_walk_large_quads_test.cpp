@@ -51,7 +51,7 @@ TEST_F(WalkLargeQuadsTest, MetricIsMaskedPsnrOverTheLargeLeafPixels) {
   // each layer warped alone, the overlay rule (foreground where it covers).
   auto r = keyframe::GeometryRenderer::create(in.scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
-  auto w = warp::Warper::create(wo.warp);
+  auto w = test::warperOfWalk(fused->report, wo.warp);
   ASSERT_TRUE(w.ok()) << w.error().message;
   const auto& frames = fused->report["frames"];
   const auto& framesSep = separate->report["frames"];

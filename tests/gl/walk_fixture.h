@@ -3,12 +3,16 @@
 // with its default path cut short, and a file's bytes.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/file_io.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
 #include "scenes/scene.h"
+#include "warp/cpu_warper.h"
+#include "warp/warper.h"
 
 namespace hw::test {
 
@@ -35,6 +39,15 @@ inline Indoor smallIndoor(const std::string& scene, int size, int frames, int ke
 inline std::string readBytes(const std::string& file) {
   auto r = readFile(file);
   return r ? *r : std::string();
+}
+
+// The warper a walk drew its layers with (its report's summary.warper:
+// "cpu" or "gl"), for tests that redo a walk's frame by hand.
+inline Result<std::unique_ptr<warp::Warper>> warperOfWalk(const nlohmann::json& report,
+                                                          const warp::WarpOptions& options) {
+  EXPECT_TRUE(report["summary"].contains("warper"));
+  if (report["summary"].value("warper", "") == "cpu") return warp::createCpuWarper(options, 1);
+  return warp::Warper::create(options);
 }
 
 }  // namespace hw::test
