@@ -129,7 +129,7 @@ class FrameEngine {
   DepthMode depthMode_;
   std::unique_ptr<keyframe::GeometryRenderer> renderer_;
   // The CPU warper's threads: one, beside the keyframe worker and the GL
-  // rasteriser's threads on the same cores (measured: docs/results).
+  // rasteriser's threads on the same cores (docs/results/2026-12-06/cpu-warper).
   static constexpr int kCpuWarperThreads = 1;
   Status createWarper(warp::WarperChoice choice);
 
