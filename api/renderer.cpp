@@ -85,6 +85,17 @@ hw::Status mapOptions(const RendererDesc& d, hw::session::WalkOptions& w) {
   if (d.compose == Compose::Overlay) w.inBetween.compose.mode = hw::gapfill::ComposeMode::Overlay;
   if (d.compose == Compose::DepthMerge)
     w.inBetween.compose.mode = hw::gapfill::ComposeMode::DepthMerge;
+  switch (d.warper) {
+    case Warper::Auto:
+      w.warper = hw::warp::WarperChoice::Auto;
+      break;
+    case Warper::Gl:
+      w.warper = hw::warp::WarperChoice::Gl;
+      break;
+    case Warper::Cpu:
+      w.warper = hw::warp::WarperChoice::Cpu;
+      break;
+  }
   if (!(d.nearDistance >= 0) || !std::isfinite(d.nearDistance))
     return bad("nearDistance", d.nearDistance, "a finite number >= 0 (scene units)");
   if (d.nearDistance > 0) w.inBetween.nearDistance = d.nearDistance;

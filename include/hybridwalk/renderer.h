@@ -54,6 +54,11 @@ enum class Planarity { Default, Stencil, RegionLocal };                 // where
 enum class Compose { Default, Overlay, DepthMerge };                    // layer composition
 enum class DepthBuffer { Default, Fixed24, Float32, Float32Reversed };  // keyframe depth
 enum class Toggle { Default, Off, On };
+// What draws the warped layers (`hybridwalk walk --warper`): Auto, a
+// rasteriser on the CPU where OpenGL itself runs on the CPU (Mesa's
+// llvmpipe), else OpenGL's textured quads; Gl and Cpu force one. The frames
+// agree to within rounding.
+enum class Warper { Auto, Gl, Cpu };
 // Where the defaults come from (`hybridwalk walk --preset`): Default, the
 // settings measured best over many scenes (τ as a parallax bound of 0.125 px
 // per scene unit, region-local planarity, strip merging); Paper, Zheng et
@@ -90,6 +95,7 @@ struct RendererDesc {
   LodDesc lod;
   KeyframeDesc keyframes;
   Compose compose = Compose::Default;  // overlay (the paper's)
+  Warper warper = Warper::Auto;
   // Objects within this distance (scene units) of a keyframe's eye are drawn
   // as geometry into every frame instead of warped (the paper's §3); 0 = off.
   double nearDistance = 0;

@@ -107,6 +107,22 @@ TEST(ApiFrames, PathFramesAreTheWalksWithOtherOptions) {
   expectWalkFrames("indoor:20k", in, wo, desc, "options");
 }
 
+// Each warper the walk can use gives the library the walk's frames, so the
+// choice reaches the frame engine (the two warpers' frames differ by rounding).
+TEST(ApiFrames, PathFramesAreTheWalksWithEachWarper) {
+  const auto in = hw::test::smallIndoor("indoor:20k", 128, 14, 5);
+  for (const auto& [choice, warper] :
+       {std::pair{hw::warp::WarperChoice::Gl, hwa::Warper::Gl},
+        std::pair{hw::warp::WarperChoice::Cpu, hwa::Warper::Cpu}}) {
+    hw::session::WalkOptions wo = hw::session::presetOptions(hw::session::Preset::Default);
+    wo.mode = hw::session::FrameMode::Hybrid;
+    wo.warper = choice;
+    hwa::RendererDesc desc;
+    desc.warper = warper;
+    expectWalkFrames("indoor:20k", in, wo, desc, hw::warp::warperChoiceName(choice));
+  }
+}
+
 TEST(ApiFrames, FreeCameraFramesAreCloseToGeometry) {
   auto scene = hwa::Scene::load("indoor:20k");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
