@@ -779,7 +779,8 @@ const char* warperChoiceName(WarperChoice c) {
 }
 
 bool isSoftwareRasteriser(const std::string& glRenderer) {
-  for (const char* name : {"llvmpipe", "softpipe", "swrast", "SWR"})
+  for (const char* name :
+       {"llvmpipe", "softpipe", "swrast", "Software Rasterizer", "Mesa OffScreen", "SWR"})
     if (glRenderer.find(name) != std::string::npos) return true;
   return false;
 }

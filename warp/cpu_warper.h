@@ -31,7 +31,7 @@ enum class WarperChoice {
 const char* warperChoiceName(WarperChoice c);  // "auto", "gl", "cpu"
 
 // Whether GL_RENDERER names a CPU rasteriser (Mesa's llvmpipe, softpipe,
-// swrast), where the CPU warper is the faster one.
+// classic swrast, OpenSWR), where the CPU warper is the faster one.
 bool isSoftwareRasteriser(const std::string& glRenderer);
 
 // Empty when `options` can be warped on the CPU, else what cannot.
