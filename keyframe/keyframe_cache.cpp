@@ -128,24 +128,33 @@ std::string KeyframeCache::budgetNote() const {
   return note;
 }
 
+std::size_t keyframePixelBytes(int width, int height) {
+  const std::size_t px =
+      static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0));
+  return px * (sizeof(Rgba8) + sizeof(double) + sizeof(float) + 1);
+}
+
+Status checkKeyframeFits(const Camera& camera, int frame, const std::string& note) {
+  return checkMemoryCharge(
+      memoryCharged(), keyframePixelBytes(camera.width, camera.height), memoryBudget(),
+      "keyframe of frame " + std::to_string(frame) + ": " + std::to_string(camera.width) + "x" +
+          std::to_string(camera.height) + " colour and depth",
+      note + "; --max-memory raises the budget, a smaller --width/--height lowers the need");
+}
+
 Status KeyframeCache::admit(int frame) {
   const Camera c = cameraOf_(frame);
-  const std::size_t px = static_cast<std::size_t>(std::max(c.width, 0)) *
-                         static_cast<std::size_t>(std::max(c.height, 0));
-  // colour, z', eye z and coverage (cachedKeyframeBytes without the quads)
-  const std::size_t pixels = px * (sizeof(Rgba8) + sizeof(double) + sizeof(float) + 1);
   // Room within the bound first, keeping the two most recent entries (the
   // pointers the caller may still hold).
   std::vector<int> keep;
   for (std::size_t i = entries_.size(); i-- > 0 && keep.size() < 2;)
     keep.push_back(entries_[i]->frame);
-  evict(keep, pixels);
-  return checkMemoryCharge(
-      memoryCharged(), pixels, memoryBudget(),
-      "keyframe of frame " + std::to_string(frame) + ": " + std::to_string(c.width) + "x" +
-          std::to_string(c.height) + " colour and depth",
-      budgetNote() +
-          "; --max-memory raises the budget, a smaller --width/--height lowers the need");
+  evict(keep, keyframePixelBytes(c.width, c.height));
+  return checkKeyframeFits(c, frame, budgetNote());
+}
+
+Status KeyframeCache::checkFits(int frame) const {
+  return checkKeyframeFits(cameraOf_(frame), frame, budgetNote());
 }
 
 void KeyframeCache::setSchedule(KeyframeSchedule schedule) {

@@ -60,6 +60,14 @@ struct CachedKeyframe {
 // Bytes an entry holds: colour, z', eye z, coverage and the quads.
 std::size_t cachedKeyframeBytes(const CachedKeyframe& e);
 
+// Bytes a keyframe of `width` x `height` holds before its quads: colour,
+// z', eye z and coverage.
+std::size_t keyframePixelBytes(int width, int height);
+// Whether a keyframe of `camera`'s size for `frame` fits what the run's
+// memory budget has left: the refusal names the frame and its size, then
+// `note` and what the user can change.
+Status checkKeyframeFits(const Camera& camera, int frame, const std::string& note);
+
 // Renders `camera` with `renderer` and meshes it per `spec` into `out`
 // (buffers reused when sizes match). The one build path for the synchronous
 // cache and the keyframe worker, so both give bit-identical keyframes.
@@ -148,6 +156,9 @@ class KeyframeCache {
   // capped it (cappedByBudget()).
   std::size_t boundBytes() const { return bound_; }
   bool cappedByBudget() const { return bound_ < options_.maxBytes; }
+  // Whether a keyframe of `frame` fits what the memory budget has left, as
+  // get() would refuse it (nothing is evicted or charged).
+  Status checkFits(int frame) const;
 
  private:
   Status insert(std::unique_ptr<CachedKeyframe> e);

@@ -7,8 +7,10 @@
 
 #include "core/check.h"
 #include "core/gl/gl_api.h"
+#include "core/memory_budget.h"
 #include "core/timer.h"
 #include "keyframe/analytic_scene.h"
+#include "keyframe/keyframe_cache.h"
 #include "keyframe/lod_builder.h"
 
 namespace hw::session {
@@ -152,6 +154,16 @@ Status FrameEngine::renderHoles(const Camera& cam, const HoleBudget* budget, Hol
 
 Status FrameEngine::measureFloor(const Camera& cam, int reps, FloorTimes* out) {
   HW_CHECK_GE(reps, 1);
+  // Its keyframe is as large as the walk's: charged while it lives.
+  const std::uint64_t bytes = keyframe::keyframePixelBytes(cam.width, cam.height);
+  HW_TRY(chargeMemory(bytes,
+                      "the fill floor's keyframe: " + std::to_string(cam.width) + "x" +
+                          std::to_string(cam.height) + " colour and depth",
+                      "--max-memory raises the budget, a smaller --width/--height lowers the need"));
+  struct Release {
+    std::uint64_t bytes;
+    ~Release() { releaseMemory(bytes); }
+  } release{bytes};
   keyframe::AnalyticScene wall;
   const double d = std::sqrt(cam.nearPlane * cam.farPlane);  // well inside the depth range
   wall.planes.push_back({cam.eye + cam.forward * d, -cam.forward, Rgba8{128, 128, 128, 255}});

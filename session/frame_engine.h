@@ -114,6 +114,8 @@ class FrameEngine {
   // The fill floor at `cam` (its resolution): a keyframe of a plane facing
   // the camera (one leaf, one quad) warped back to it, `reps` >= 1 timed
   // draws of each kind after an untimed one. The engine's frames are not touched.
+  // Its keyframe is charged to the memory budget while it lives (refused
+  // like a walk's keyframe when it does not fit).
   Status measureFloor(const Camera& cam, int reps, FloorTimes* out);
 
  private:

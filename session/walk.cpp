@@ -70,7 +70,8 @@ class WalkLoop {
  private:
   Status setUp();
   Status setUpSchedule();
-  Status setUpKeyframes();
+  void makeCache();
+  Status startKeyframeWorker();
   Status warmUp();
   Status calibrateRefresh();
   Status calibrateModes();
@@ -179,10 +180,17 @@ Status WalkLoop::setUp() {
   if (!engine) return engine.error();
   engine_ = std::move(*engine);
   renderer_ = &engine_->renderer();
-  // The fill floor at this resolution, before the keyframe worker starts.
-  HW_TRY(engine_->measureFloor(path_.cameraAt(0), kFloorReps, &floor_));
   HW_TRY(setUpSchedule());
-  return setUpKeyframes();
+  makeCache();
+  // A keyframe that cannot fit the memory budget is refused before anything
+  // of its size is drawn: the floor's keyframe is as large.
+  const bool needsKeyframes = opt_.mode != FrameMode::Geometry && !schedule_.keyframes().empty();
+  if (needsKeyframes) HW_TRY(cache_->checkFits(schedule_.keyframes().front()));
+  // The fill floor at this resolution, before the keyframe worker starts; a
+  // geometry walk whose budget holds no keyframe goes without it.
+  if (needsKeyframes || keyframe::checkKeyframeFits(cams_.front(), 0, "").ok())
+    HW_TRY(engine_->measureFloor(path_.cameraAt(0), kFloorReps, &floor_));
+  return startKeyframeWorker();
 }
 
 Status WalkLoop::setUpSchedule() {
@@ -203,38 +211,40 @@ Status WalkLoop::setUpSchedule() {
   return {};
 }
 
-// Keyframe acquisition: cache (memory bound), and with asyncKeyframes a
-// worker that renders and meshes them ahead along the schedule.
-Status WalkLoop::setUpKeyframes() {
+// Keyframe acquisition: a cache (memory bound), and with asyncKeyframes a
+// worker that renders and meshes keyframes ahead along the schedule.
+void WalkLoop::makeCache() {
   const keyframe::MeshSpec meshSpec{opt_.mesh, opt_.lod, opt_.tileSize};
-  auto cameraOf = [this](int i) { return cams_[static_cast<std::size_t>(i)]; };
-  asyncKf_ = opt_.asyncKeyframes && !opt_.keyframeSource;
-  if (asyncKf_) {
-    keyframe::AsyncKeyframeOptions aopt;
-    aopt.render = renderer_->options();
-    aopt.mesh = meshSpec;
-    aopt.maxQueued = std::max(1, opt_.keyframePrefetch) + 2;  // the bracket + those ahead
-    aopt.flushEveryTriangles = opt_.keyframeFlushTriangles;
-    aopt.workerNice = opt_.keyframeWorkerNice;
-    using P = WalkOptions::KeyframePacing;
-    if (opt_.keyframePacing == P::Steps) aopt.stepsPerFrame = opt_.keyframeStepsPerFrame;
-    if (opt_.keyframePacing == P::Time || opt_.keyframePacing == P::Slices) {
-      aopt.slices = opt_.keyframePacing == P::Slices;
-      const std::size_t nk = schedule_.keyframes().size();
-      aopt.framesPerKeyframe =
-          nk > 1 ? static_cast<double>(frames_ - 1) / static_cast<double>(nk - 1) : 1.0;
-      aopt.budgetScale = opt_.keyframeBudgetScale;
-    }
-    auto w = keyframe::AsyncKeyframes::create(scene_, cameraOf, aopt);
-    if (!w) return w.error();
-    kfWorker_ = std::move(*w);
-  }
   cache_ = std::make_unique<keyframe::KeyframeCache>(
-      *renderer_, meshSpec, cameraOf,
+      *renderer_, meshSpec, [this](int i) { return cams_[static_cast<std::size_t>(i)]; },
       keyframe::CacheOptions{opt_.keyframeCacheBytes, std::max(0, opt_.keyframePrefetch)});
   cache_->setSchedule(schedule_);
   if (opt_.keyframeSource) cache_->setSource(opt_.keyframeSource);
-  if (kfWorker_) cache_->setProducer(kfWorker_.get());
+}
+
+Status WalkLoop::startKeyframeWorker() {
+  asyncKf_ = opt_.asyncKeyframes && !opt_.keyframeSource;
+  if (!asyncKf_) return {};
+  keyframe::AsyncKeyframeOptions aopt;
+  aopt.render = renderer_->options();
+  aopt.mesh = keyframe::MeshSpec{opt_.mesh, opt_.lod, opt_.tileSize};
+  aopt.maxQueued = std::max(1, opt_.keyframePrefetch) + 2;  // the bracket + those ahead
+  aopt.flushEveryTriangles = opt_.keyframeFlushTriangles;
+  aopt.workerNice = opt_.keyframeWorkerNice;
+  using P = WalkOptions::KeyframePacing;
+  if (opt_.keyframePacing == P::Steps) aopt.stepsPerFrame = opt_.keyframeStepsPerFrame;
+  if (opt_.keyframePacing == P::Time || opt_.keyframePacing == P::Slices) {
+    aopt.slices = opt_.keyframePacing == P::Slices;
+    const std::size_t nk = schedule_.keyframes().size();
+    aopt.framesPerKeyframe =
+        nk > 1 ? static_cast<double>(frames_ - 1) / static_cast<double>(nk - 1) : 1.0;
+    aopt.budgetScale = opt_.keyframeBudgetScale;
+  }
+  auto w = keyframe::AsyncKeyframes::create(
+      scene_, [this](int i) { return cams_[static_cast<std::size_t>(i)]; }, aopt);
+  if (!w) return w.error();
+  kfWorker_ = std::move(*w);
+  cache_->setProducer(kfWorker_.get());
   return {};
 }
 
@@ -1110,8 +1120,8 @@ void WalkLoop::summariseTiming(json& s) const {
   s["frame_ms_p95_over_median"] = ratio(r.frameMs);
   s["in_between_frame_ms"] = seriesStats(r.inBetweenFrameMs);
   s["in_between_frame_ms_p95_over_median"] = ratio(r.inBetweenFrameMs);
-  s["floor_ms"] = {{"one_layer", floor_.oneLayerMs},
-                   {"two_layers", floor_.twoLayersMs},
+  s["floor_ms"] = {{"one_layer", floor_.oneLayerMs >= 0 ? json(floor_.oneLayerMs) : json(nullptr)},
+                   {"two_layers", floor_.twoLayersMs >= 0 ? json(floor_.twoLayersMs) : json(nullptr)},
                    {"draws", floor_.reps}};
   {
     const std::vector<double> ib = r.inBetweenFrameMs.values();
