@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Longer libFuzzer runs for people (CI runs each target for 20 s in
-# scripts/test.sh). Builds the `fuzz` preset (clang; build dir build-fuzz;
+# scripts/test.sh, from the asan preset's build). Builds the `fuzz` preset (clang; build dir build-fuzz;
 # the whole build instrumented with coverage + ASan + UBSan), then runs each
 # target, or the ones named, for a fixed wall-clock time starting from its
 # committed seed corpus tests/fuzz/NAME/ (only read). New inputs go to a

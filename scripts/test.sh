@@ -8,9 +8,11 @@
 #  2. the program built with both EGL and OSMesa (the release flags; with
 #     ccache only the three backend files and a link): EGL and OSMesa write
 #     identical frames, and walks on OSMesa (cli.gl_backends);
-#  3. under AddressSanitizer + UBSan (asan preset): the CPU tests, and the
-#     bad-input catalogue against the whole program built that way;
-#  4. each libFuzzer target for a bounded time from its committed seed corpus.
+#  3. one clang build at -O1 under AddressSanitizer + UBSan (asan preset,
+#     build-asan/): the CPU tests, the bad-input catalogue against the whole
+#     program built that way, and
+#  4. each libFuzzer target of that build for a bounded time from its
+#     committed seed corpus, two at a time.
 # HW_TEST_QUICK=1 runs step 1 only. HW_FUZZ_SECONDS sets step 4's time per target.
 # HW_TEST_ASAN_CATALOGUE=0 leaves out step 3's catalogue run (local quick runs).
 set -euo pipefail
@@ -50,16 +52,21 @@ cmake -S . -B build-both -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBUILD_TEST
 cmake --build build-both -j "$(nproc)" --target hybridwalk
 (cd build-both && ctest --output-on-failure -R '^cli\.gl_backends$' --no-tests=error) | tee -a "$log"
 
-echo "== under AddressSanitizer + UndefinedBehaviorSanitizer: CPU tests, then the bad-input catalogue"
+echo "== clang -O1 under AddressSanitizer + UndefinedBehaviorSanitizer: CPU tests, the bad-input catalogue, libFuzzer targets"
 cpu_targets=$(for f in tests/cpu/*_test.cpp; do basename "$f" .cpp; done)
-cmake --preset asan -DHW_WERROR=ON >/dev/null
+fuzzers=$(for f in */*_fuzz.cpp; do basename "$f" .cpp; done)
+# One build for all three (every object carries libFuzzer's coverage
+# instrumentation, which the tests do not use): a second sanitizer build
+# for the fuzzers alone cost CI about as much as this one. Warnings are the
+# GCC build's (step 1, -Werror).
+cmake --preset asan >/dev/null
 asan_catalogue=${HW_TEST_ASAN_CATALOGUE:-1}
 extra_target=""
 # The CPU tests already link every module, so the program adds only
-# app/main.cpp and one link (about 20 CPU-seconds cold).
+# app/main.cpp and one link.
 [ "$asan_catalogue" = 1 ] && extra_target=hybridwalk
 # shellcheck disable=SC2086
-cmake --build build-asan -j "$(nproc)" --target $cpu_targets $extra_target
+cmake --build build-asan -j "$(nproc)" --target $cpu_targets $extra_target $fuzzers
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
   ctest --output-on-failure -j 2 -L cpu --timeout 600) | tee -a "$log"
 # Every catalogue row against the sanitized program: a memory error or UB on
@@ -71,9 +78,7 @@ cmake --build build-asan -j "$(nproc)" --target $cpu_targets $extra_target
 # Leaks are not checked here: OSMesa/llvmpipe and Assimp keep allocations to
 # exit on the error paths (the CPU tests above check ours).
 # -j 4 on 2 cores: a row keeps less than one core busy on average (process
-# start, scene load, waits on children, FIFOs and signals; a 12-frame walk
-# used 2.9 CPU-seconds in 6.5 s); the rows take about 310 CPU-seconds in all
-# (docs/results/2026-12-03/hostile-input).
+# start, scene load, waits on children, FIFOs and signals).
 if [ "$asan_catalogue" = 1 ]; then
   no_asan=$(awk -F'\t' '$6 ~ /ulimit -v/ {printf "%s%s", sep, $1; sep="|"}' tests/catalogue/cases.tsv)
   (cd build-asan && ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
@@ -84,25 +89,44 @@ else
   echo "(HW_TEST_ASAN_CATALOGUE=0: the catalogue under ASan is left out)"
 fi
 
-echo "== libFuzzer targets (${HW_FUZZ_SECONDS:-20} s each)"
-cmake --preset fuzz >/dev/null
-fuzzers=$(for f in */*_fuzz.cpp; do basename "$f" .cpp; done)
-# shellcheck disable=SC2086
-cmake --build build-fuzz -j "$(nproc)" --target $fuzzers
-for fz in $fuzzers; do
-  seeds=tests/fuzz/${fz%_fuzz}
+echo "== libFuzzer targets (${HW_FUZZ_SECONDS:-20} s each, two at a time)"
+# One target: its own scratch corpus (new inputs go there; the committed
+# seeds are only read) and log; the log's summary lines, or its tail on failure.
+fuzz_one() {
+  local fz=$1 seeds=tests/fuzz/${1%_fuzz} work status=0
   work=$(mktemp -d)
-  echo "-- $fz (seeds: $seeds)"
-  # New inputs go to the scratch dir; the committed corpus is only read.
-  status=0
-  build-fuzz/bin/"$fz" -max_total_time="${HW_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=4096 \
+  build-asan/bin/"$fz" -max_total_time="${HW_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=4096 \
     -print_final_stats=1 "$work" "$seeds" >"$work.log" 2>&1 || status=$?
-  grep -E "stat::number_of_executed_units|ERROR|SUMMARY|==[0-9]+==|Done" "$work.log" | head -40 || true
-  if [ "$status" -ne 0 ]; then tail -60 "$work.log"; fi
-  rm -f "$work.log"
-  rm -rf "$work"
-  if [ "$status" -ne 0 ]; then echo "$fz failed (exit $status)"; exit 1; fi
+  {
+    echo "-- $fz (seeds: $seeds)"
+    grep -E "stat::number_of_executed_units|ERROR|SUMMARY|==[0-9]+==|Done" "$work.log" | head -40 || true
+    if [ "$status" -ne 0 ]; then tail -60 "$work.log"; echo "$fz failed (exit $status)"; fi
+  } >"$work.out"
+  cat "$work.out"
+  rm -rf "$work" "$work.log" "$work.out"
+  return "$status"
+}
+failed=0
+set -- $fuzzers
+while [ $# -gt 0 ]; do
+  fuzz_one "$1" >"$log.a" &
+  pa=$!
+  pb=""
+  if [ $# -gt 1 ]; then
+    fuzz_one "$2" >"$log.b" &
+    pb=$!
+  fi
+  wait "$pa" || failed=1
+  cat "$log.a"
+  if [ -n "$pb" ]; then
+    wait "$pb" || failed=1
+    cat "$log.b"
+    shift
+  fi
+  shift
 done
+rm -f "$log.a" "$log.b"
+[ "$failed" = 0 ] || exit 1
 nfuzz=$(echo "$fuzzers" | wc -w)
 nctest=$(awk '/tests passed, 0 tests failed out of/ { n += $NF } END { print n + 0 }' "$log")
 echo "sanitizers and fuzzers: all passed"

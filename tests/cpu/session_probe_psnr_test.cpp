@@ -47,7 +47,7 @@ class RayCastRenderer : public GeometryRenderer {
         } else {
           const double t = std::sin(p.x * 0.6) * std::cos(p.y * 0.5);
           c = {static_cast<std::uint8_t>(40 + 30 * t), static_cast<std::uint8_t>(120 + 90 * t),
-               static_cast<std::uint8_t>(200 - 60 * t), 255};
+               static_cast<std::uint8_t>(190 - 60 * t), 255};
         }
         out.colour(x, y) = c;
         out.eyeZ(x, y) = static_cast<float>(z);
