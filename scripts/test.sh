@@ -34,7 +34,7 @@ build/bin/hybridwalk scenes fetch --outdoor --quiet ||
 # llvmpipe threads: 2 gave the steadiest figures here (NOTES-GL.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+trap 'rm -f "$log" "$log.a" "$log.b"' EXIT
 # -noreset: by default Xvfb resets when its last client disconnects, and a
 # client connecting during the reset is dropped ("Failed to open display"):
 # the viewer tests close one window and open the next, two at a time. Seen
