@@ -59,6 +59,8 @@ struct ViewerOptions {
   // With mode Auto, the hole pass's time cap as a fraction of a geometry
   // frame's time, as WalkOptions::renderHolesBudget (0 = every rectangle).
   double renderHolesBudget = 0;
+  // The hole rectangles drawn from the simplified scene (WalkOptions::simplifyHoles).
+  bool simplifyHoles = false;
   // Frames between keyframes of the play/default path (its keyframe_every,
   // which sets the keyframe spacing); 0 = the path's own (`view --keyframe-every`).
   int keyframeEvery = 0;

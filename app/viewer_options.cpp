@@ -14,6 +14,7 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->asyncKeyframes = walk.asyncKeyframes;
   out->renderHoles = walk.renderHoles;
   out->renderHolesBudget = walk.renderHolesBudget;
+  out->simplifyHoles = walk.simplifyHoles;
 }
 
 Status checkViewerOptions(const ViewerOptions& o) {

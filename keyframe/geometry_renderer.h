@@ -33,6 +33,13 @@ struct RenderOptions {
   // float in warped frames, so they are drawn directly instead (Zheng et al.
   // 1999 §3; renderNear). 0 = keyframes hold everything (the paper's pipeline).
   double keyframeExcludeNear = 0;
+  // renderColourRect(s) draw each cluster from a simplified copy of its mesh
+  // (scenes/simplify.h: the inner vertices of planar, affinely textured fans
+  // removed, every outline, seam and mesh border kept; nothing moves), made
+  // at create. The same surfaces, fewer and larger triangles: the pixels
+  // differ only where the rasteriser's rounding does. false = the scene's
+  // own triangles.
+  bool simplifiedRects = false;
 };
 
 struct RenderStats {
@@ -63,6 +70,7 @@ class GeometryRenderer {
   // rect-sized (reused). Error for an empty rectangle or one outside the image.
   virtual Status renderColourRect(const Camera& camera, const PixelRect& rect, Image<Rgba8>& out,
                                   RenderStats* stats = nullptr) = 0;
+  // With RenderOptions::simplifiedRects, from the simplified copy.
   // renderColourRect for `count` rectangles at once (outs[k] for rects[k]):
   // the same pixels, drawn in one pass (one wait for the GPU). Overlapping
   // rectangles are each drawn whole. Error as renderColourRect, before any

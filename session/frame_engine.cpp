@@ -39,6 +39,7 @@ Result<std::unique_ptr<FrameEngine>> FrameEngine::create(const scenes::Scene& sc
   keyframe::RenderOptions ropt;
   ropt.depthMode = options.depthMode;
   ropt.keyframeExcludeNear = options.inBetween.nearDistance;
+  ropt.simplifiedRects = options.renderHoles && options.simplifyHoles;
   auto renderer = keyframe::GeometryRenderer::create(scene, ropt);
   if (!renderer) return renderer.error();
   e->renderer_ = std::move(*renderer);

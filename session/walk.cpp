@@ -227,6 +227,7 @@ Status WalkLoop::startKeyframeWorker() {
   if (!asyncKf_) return {};
   keyframe::AsyncKeyframeOptions aopt;
   aopt.render = renderer_->options();
+  aopt.render.simplifiedRects = false;  // the worker draws keyframes, never rectangles
   aopt.mesh = keyframe::MeshSpec{opt_.mesh, opt_.lod, opt_.tileSize};
   aopt.maxQueued = std::max(1, opt_.keyframePrefetch) + 2;  // the bracket + those ahead
   aopt.flushEveryTriangles = opt_.keyframeFlushTriangles;
@@ -1074,6 +1075,7 @@ void WalkLoop::summariseLod(json& s) const {
   s["fallback"] = gapfill::fallbackName(ib.fallback);
   s["render_holes"] = opt_.renderHoles;
   s["render_holes_budget"] = opt_.renderHoles ? json(opt_.renderHolesBudget) : json(nullptr);
+  s["simplify_holes"] = opt_.renderHoles ? json(opt_.simplifyHoles) : json(nullptr);
   s["holes_rendered"] = seriesStats(r.holesRenderedPixels);
   s["reprojected_pixels"] = seriesStats(r.reprojectedPixels);
   s["fallback_ms"] = seriesStats(r.fallbackMs);

@@ -135,6 +135,10 @@ struct WalkOptions {
   // whole frame below one geometry frame. 0 = no cap. The other modes draw
   // every rectangle, so their frames do not depend on timings.
   double renderHolesBudget = 0;
+  // With renderHoles, the rectangles are drawn from a simplified copy of the
+  // scene (keyframe::RenderOptions::simplifiedRects): the same surfaces in
+  // fewer, larger triangles. false = the scene's own triangles.
+  bool simplifyHoles = false;
   static constexpr int kHoleTilePx = 16;
   static constexpr int kHoleTileMinPixels = 8;
   static constexpr int kMaxHoleRects = 12;

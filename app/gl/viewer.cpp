@@ -65,7 +65,10 @@ Status Viewer::setUp() {
 
   // The overlay composition needs no eye z; the large-leaf mask feeds only
   // the walk's psnr_large_quads.
-  auto engine = session::FrameEngine::create(scene_, session::WalkOptions{}, false, false);
+  session::WalkOptions engineOptions;
+  engineOptions.renderHoles = opt_.renderHoles;
+  engineOptions.simplifyHoles = opt_.simplifyHoles;
+  auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);
   if (!engine) return engine.error();
   engine_ = std::move(*engine);
   renderer_ = &engine_->renderer();

@@ -202,6 +202,13 @@ WalkRows holeRows() {
           "frame. 0 = no cap; --mode hybrid draws every rectangle (frames independent of "
           "timings)",
           numberRange(0.0, 100.0)),
+      togglePair<WalkOptions>(
+          "--simplify-holes", "--no-simplify-holes",
+          +[](WalkOptions& o) -> bool& { return o.simplifyHoles; }, kComposition,
+          "With --render-holes: draw the rectangles from a copy of the scene whose flat, evenly "
+          "textured surfaces are cut into fewer, larger triangles (outlines and seams kept, "
+          "nothing moves; made when the scene loads). The same surfaces at a cost that follows "
+          "the rectangles' pixels more than the scene's triangle count"),
   };
 }
 

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <limits>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -12,6 +14,7 @@
 #include "core/gl/gl_api.h"
 #include "core/gl/shader.h"
 #include "core/timer.h"
+#include "scenes/simplify.h"
 
 namespace hw::keyframe {
 namespace {
@@ -66,6 +69,7 @@ struct Range {
 
 struct DrawItem {
   Range all;                                   // bounds: the union of its clusters'
+  Range simplifiedAll;                         // RenderOptions::simplifiedRects: its copy
   std::size_t clusterBegin = 0, clusterEnd = 0;  // into GlGeometryRenderer::clusters_
   int material = 0;
 };
@@ -109,6 +113,12 @@ class GlGeometryRenderer final : public GeometryRenderer {
     std::vector<std::uint32_t> idx;
     verts.reserve(nv);
     idx.reserve(ni);
+    // RenderOptions::simplifiedRects: each item's copy, its clusters' ranges
+    // in the same order, appended after every item's own indices. Meshes are
+    // simplified on every core (they are independent).
+    std::vector<std::uint32_t> simplifiedIdx;
+    std::vector<scenes::SimplifiedTriangles> simplified;
+    if (options.simplifiedRects) simplified = simplifyMeshes(scene);
     // Clusters come mesh by mesh, in order: the first of each mesh.
     const std::vector<scenes::Cluster> cs = scenes::clusterScene(scene, options.clusters);
     std::vector<std::size_t> firstCluster(scene.meshes.size() + 1, cs.size());
@@ -154,8 +164,16 @@ class GlGeometryRenderer final : public GeometryRenderer {
                            std::to_string(m.vertices.size()));
         idx.push_back(base + i);
       }
+      if (options.simplifiedRects && d.clusterBegin != d.clusterEnd)
+        appendSimplified(m, simplified[k], base, d, simplifiedIdx);
       verts.insert(verts.end(), m.vertices.begin(), m.vertices.end());
       if (d.clusterBegin != d.clusterEnd) items_.push_back(d);  // no whole triangle: nothing to draw
+    }
+    if (options.simplifiedRects) {
+      const std::size_t offset = idx.size();
+      idx.insert(idx.end(), simplifiedIdx.begin(), simplifiedIdx.end());
+      for (DrawItem& d : items_) d.simplifiedAll.firstIndex += offset;
+      for (Range& r : simplified_) r.firstIndex += offset;
     }
     glGenVertexArrays(1, &vao_);
     glBindVertexArray(vao_);
@@ -196,6 +214,57 @@ class GlGeometryRenderer final : public GeometryRenderer {
       textures_.push_back(id);
     }
     return gl::checkGlError("GeometryRenderer::create");
+  }
+
+  // Every mesh's simplified copy (whole meshes: clusters cut the same runs).
+  static std::vector<scenes::SimplifiedTriangles> simplifyMeshes(const scenes::Scene& scene) {
+    std::vector<scenes::SimplifiedTriangles> out(scene.meshes.size());
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t k; (k = next++) < scene.meshes.size();) {
+        const scenes::Mesh& m = scene.meshes[k];
+        out[k] = scenes::simplifyTriangles(m, 0, static_cast<std::uint32_t>(m.triangleCount()),
+                                           scenes::SimplifyOptions{});
+      }
+    };
+    const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    return out;
+  }
+
+  // Mesh `m`'s simplified copy `s` laid out by d's clusters: for each, the
+  // simplified triangles that took the place of its own (an empty range when
+  // none did), bounded by their corners; indices rebased by `base`, offsets
+  // relative to the start of `out` (init moves them behind the full index
+  // list).
+  void appendSimplified(const scenes::Mesh& m, const scenes::SimplifiedTriangles& s,
+                        std::uint32_t base, DrawItem& d, std::vector<std::uint32_t>& out) {
+    d.simplifiedAll.firstIndex = out.size();
+    d.simplifiedAll.lo = d.all.lo;
+    d.simplifiedAll.hi = d.all.hi;
+    std::size_t k = 0;  // into s's triangles, whose sources increase
+    for (std::size_t c = d.clusterBegin; c < d.clusterEnd; ++c) {
+      const Range& full = clusters_[c];
+      const std::size_t end = (full.firstIndex + full.indexCount - d.all.firstIndex) / 3;
+      Range r;
+      r.firstIndex = out.size();
+      r.lo = glm::vec3(std::numeric_limits<float>::max());
+      r.hi = glm::vec3(-std::numeric_limits<float>::max());
+      for (; k < s.source.size() && s.source[k] < end; ++k)
+        for (int j = 0; j < 3; ++j) {
+          const std::uint32_t i = s.indices[3 * k + static_cast<std::size_t>(j)];
+          out.push_back(base + i);
+          r.lo = glm::min(r.lo, m.vertices[i].position);
+          r.hi = glm::max(r.hi, m.vertices[i].position);
+        }
+      r.indexCount = out.size() - r.firstIndex;
+      if (r.indexCount == 0) r.lo = r.hi = full.lo;
+      simplified_.push_back(r);
+    }
+    d.simplifiedAll.indexCount = out.size() - d.simplifiedAll.firstIndex;
   }
 
   Status renderKeyframe(const Camera& camera, Keyframe& out, RenderStats* stats) override {
@@ -270,7 +339,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
 
   std::size_t visibleTriangles(const Camera& camera) const override {
     std::size_t indices = 0;
-    visitItems(frustumPlanes(viewProjection(camera)), nullptr,
+    visitItems(frustumPlanes(viewProjection(camera)), nullptr, false,
                [&](const DrawItem&, std::size_t, std::size_t count, std::size_t) { indices += count; });
     return indices / 3;
   }
@@ -402,7 +471,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
         sub[1] = r * t[3] - t[0];
         sub[2] = t[1] - bottom * t[3];
         sub[3] = top * t[3] - t[1];
-        drawItems(sub, filter, stats);
+        drawItems(sub, filter, stats, options_.simplifiedRects);
       }
       glDisable(GL_SCISSOR_TEST);
     }
@@ -415,19 +484,21 @@ class GlGeometryRenderer final : public GeometryRenderer {
   // Every item inside `planes` (the frustum, or a rectangle's), clusters
   // culled, near-filtered.
   void drawItems(const std::array<glm::dvec4, 6>& planes, const NearFilter* filter,
-                 RenderStats& stats) {
-    visitItems(planes, filter,
+                 RenderStats& stats, bool simplified = false) {
+    visitItems(planes, filter, simplified,
                [&](const DrawItem& d, std::size_t first, std::size_t count, std::size_t clusters) {
                  drawRange(d, first, count, clusters, stats);
                });
   }
 
   // The ranges drawItems draws, in its order: visit(item, firstIndex,
-  // indexCount, clusters) for each.
+  // indexCount, clusters) for each; from the simplified copy if `simplified`.
   template <typename Visit>
   void visitItems(const std::array<glm::dvec4, 6>& planes, const NearFilter* filter,
-                  Visit&& visit) const {
+                  bool simplified, Visit&& visit) const {
+    const std::vector<Range>& clusters = simplified ? simplified_ : clusters_;
     for (const DrawItem& d : items_) {
+      const Range& all = simplified ? d.simplifiedAll : d.all;
       Side side = Side::Inside;
       if (options_.frustumCulling) {
         side = classify(planes, d.all.lo, d.all.hi);
@@ -439,19 +510,20 @@ class GlGeometryRenderer final : public GeometryRenderer {
       if (filter && !meshNear && filter->mode == NearFilter::Only) continue;
       if (!options_.clusterCulling) {
         if (filter && filter->skip(d.all.lo, d.all.hi)) continue;
-        visit(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin);
+        visit(d, all.firstIndex, all.indexCount, d.clusterEnd - d.clusterBegin);
         continue;
       }
       if (side == Side::Inside && !meshNear) {
-        visit(d, d.all.firstIndex, d.all.indexCount, d.clusterEnd - d.clusterBegin);
+        visit(d, all.firstIndex, all.indexCount, d.clusterEnd - d.clusterBegin);
         continue;
       }
       // Consecutive clusters drawn go out as one draw, so the triangles keep
       // the mesh's order.
       std::size_t runFirst = 0, runCount = 0, runClusters = 0;
       for (std::size_t c = d.clusterBegin; c < d.clusterEnd; ++c) {
-        const Range& r = clusters_[c];
-        if ((side != Side::Inside && classify(planes, r.lo, r.hi) == Side::Outside) ||
+        const Range& r = clusters[c];
+        if (r.indexCount == 0 ||
+            (side != Side::Inside && classify(planes, r.lo, r.hi) == Side::Outside) ||
             (meshNear && filter->skip(r.lo, r.hi)))
           continue;
         if (runCount > 0 && runFirst + runCount == r.firstIndex) {
@@ -520,6 +592,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
   std::vector<GLuint> textures_;
   std::vector<DrawItem> items_;
   std::vector<Range> clusters_;  // each item's clusters in its index range, in order
+  std::vector<Range> simplified_;  // RenderOptions::simplifiedRects: clusters_[c]'s copy
   gl::Framebuffer fbo_;
   Image<double> nearZPrime_;  // renderNear's scratch
 };
