@@ -1,20 +1,21 @@
 #pragma once
-// A coarser copy of a cluster's triangles for passes that may trade a bounded
-// geometric error for fewer triangles (the hole pass: keyframe/
-// geometry_renderer.h, RenderOptions::holeLodPx).
+// A copy of a run of a mesh's triangles with fewer, larger triangles, for
+// passes that may draw the same surfaces triangulated otherwise (the hole
+// pass: keyframe/geometry_renderer.h, RenderOptions::simplifiedRects).
 //
 // Vertices are removed by half-edge collapses (a vertex merged into one of
 // its neighbours), so the result indexes the mesh's own vertices and needs
 // no vertex buffer of its own. Only vertices inside a closed, consistently
-// oriented fan of the cluster's own triangles are removed: vertices on the
-// cluster's border, on the mesh's open edges, on texture or normal seams
-// (split vertices) and on non-manifold edges stay, so neighbouring clusters
+// oriented fan of the given triangles are removed: vertices on the run's
+// border, on the mesh's open edges, on texture or normal seams
+// (split vertices) and on non-manifold edges stay, so neighbouring runs
 // still meet edge to edge (no crack or T-junction) and every outline stays
 // where it was. A collapse is taken only when
 // - the removed vertex's normal and its neighbours' agree within
 //   `normalCos` (shading keeps what it interpolated),
-// - the removed vertex's texture coordinates are what the new fan
-//   interpolates at its position, within `uvTolerance`,
+// - the texture coordinates are affine in the position over the removed
+//   vertex's fan, within `uvTolerance` (any triangulation of the fan then
+//   maps the texture as before),
 // - no triangle of the fan flips or becomes degenerate, and
 // - the surface moves by at most `maxError` (scene units), counted
 //   conservatively: the moved vertex's distance to the planes it leaves,

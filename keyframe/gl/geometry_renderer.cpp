@@ -13,6 +13,7 @@
 #include "core/gl/framebuffer.h"
 #include "core/gl/gl_api.h"
 #include "core/gl/shader.h"
+#include "core/memory_budget.h"
 #include "core/timer.h"
 #include "scenes/simplify.h"
 
@@ -118,6 +119,17 @@ class GlGeometryRenderer final : public GeometryRenderer {
     // simplified on every core (they are independent).
     std::vector<std::uint32_t> simplifiedIdx;
     std::vector<scenes::SimplifiedTriangles> simplified;
+    std::uint64_t simplifyBytes = 0;
+    if (options.simplifiedRects) {
+      simplifyBytes = simplifyWorkingBytes(scene);
+      HW_TRY(chargeMemory(simplifyBytes, "the simplified copy of the scene (--simplify-holes) while it is made",
+                          "--max-memory raises the budget; --no-simplify-holes draws the hole "
+                          "rectangles from the scene itself"));
+    }
+    struct Release {
+      std::uint64_t bytes;
+      ~Release() { releaseMemory(bytes); }
+    } release{simplifyBytes};
     if (options.simplifiedRects) simplified = simplifyMeshes(scene);
     // Clusters come mesh by mesh, in order: the first of each mesh.
     const std::vector<scenes::Cluster> cs = scenes::clusterScene(scene, options.clusters);
@@ -216,6 +228,24 @@ class GlGeometryRenderer final : public GeometryRenderer {
     return gl::checkGlError("GeometryRenderer::create");
   }
 
+  // What simplifyMeshes holds at most, estimated: the copies (indices,
+  // sources, errors) and the working sets of as many of the largest meshes
+  // as it simplifies at once (per triangle its corners and the edge map, per
+  // vertex its attributes and fan list).
+  static std::uint64_t simplifyWorkingBytes(const scenes::Scene& scene) {
+    std::vector<std::uint64_t> work;
+    std::uint64_t copies = 0;
+    for (const scenes::Mesh& m : scene.meshes) {
+      copies += 20ull * m.triangleCount();
+      work.push_back(160ull * m.triangleCount() + 150ull * m.vertices.size());
+    }
+    std::sort(work.rbegin(), work.rend());
+    const std::size_t n = std::min<std::size_t>(work.size(), simplifyThreads());
+    return copies + std::accumulate(work.begin(), work.begin() + static_cast<std::ptrdiff_t>(n),
+                                    std::uint64_t{0});
+  }
+  static unsigned simplifyThreads() { return std::clamp(std::thread::hardware_concurrency(), 1u, 8u); }
+
   // Every mesh's simplified copy (whole meshes: clusters cut the same runs).
   static std::vector<scenes::SimplifiedTriangles> simplifyMeshes(const scenes::Scene& scene) {
     std::vector<scenes::SimplifiedTriangles> out(scene.meshes.size());
@@ -227,7 +257,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
                                            scenes::SimplifyOptions{});
       }
     };
-    const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
+    const unsigned threads = simplifyThreads();
     std::vector<std::thread> pool;
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
     work();

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
+#include "core/memory_budget.h"
 #include "gl_fixture.h"
 #include "keyframe/geometry_renderer.h"
 #include "scenes/procedural.h"
@@ -63,6 +65,23 @@ TEST_F(SimplifiedRectsTest, SameSurfacesFewerTriangles) {
   // missing or misplaced surface would move many a lot.
   EXPECT_LT(differ, pixels / 100) << differ << " of " << pixels;
   EXPECT_LT(farOff, pixels / 10000) << farOff << " of " << pixels;
+}
+
+TEST_F(SimplifiedRectsTest, TheCopyIsChargedToTheMemoryBudget) {
+  const scenes::Scene scene = scenes::makeIndoorScene(200000);
+  keyframe::RenderOptions simplified;
+  simplified.simplifiedRects = true;
+  const std::uint64_t before = memoryCharged();
+  setMemoryBudget(before + (4u << 20));  // the scene's own upload is not charged here
+  auto r = keyframe::GeometryRenderer::create(scene, simplified);
+  setMemoryBudget(0);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("--simplify-holes"), std::string::npos) << r.error().message;
+  EXPECT_EQ(memoryCharged(), before);
+  // With room it is made, and what it charged is given back.
+  auto ok = keyframe::GeometryRenderer::create(scene, simplified);
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  EXPECT_EQ(memoryCharged(), before);
 }
 
 }  // namespace
