@@ -253,6 +253,10 @@ class GlGeometryRenderer final : public GeometryRenderer {
     const auto work = [&] {
       for (std::size_t k; (k = next++) < scene.meshes.size();) {
         const scenes::Mesh& m = scene.meshes[k];
+        // A bad index fails init before the copy is used: leave it empty.
+        if (std::any_of(m.indices.begin(), m.indices.end(),
+                        [&](std::uint32_t i) { return i >= m.vertices.size(); }))
+          continue;
         out[k] = scenes::simplifyTriangles(m, 0, static_cast<std::uint32_t>(m.triangleCount()),
                                            scenes::SimplifyOptions{});
       }

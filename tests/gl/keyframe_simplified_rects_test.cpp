@@ -84,5 +84,17 @@ TEST_F(SimplifiedRectsTest, TheCopyIsChargedToTheMemoryBudget) {
   EXPECT_EQ(memoryCharged(), before);
 }
 
+TEST_F(SimplifiedRectsTest, AnIndexOutOfRangeIsAnErrorNotACrash) {
+  scenes::Scene scene = scenes::makeIndoorScene(20000);
+  ASSERT_FALSE(scene.meshes.empty());
+  scenes::Mesh& m = scene.meshes.back();
+  m.indices[m.indices.size() / 2] = static_cast<std::uint32_t>(m.vertices.size()) + 7;
+  keyframe::RenderOptions simplified;
+  simplified.simplifiedRects = true;
+  auto r = keyframe::GeometryRenderer::create(scene, simplified);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find(">= vertex count"), std::string::npos) << r.error().message;
+}
+
 }  // namespace
 }  // namespace hw
