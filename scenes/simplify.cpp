@@ -125,7 +125,7 @@ class Simplifier {
   }
 
   // Vertices stay where their fan is not a closed, consistently oriented disc
-  // of this cluster's triangles, or where one of their triangles has no area
+  // of these triangles, or where one of their triangles has no area
   // or their normal is zero.
   void lockBorders() {
     locked_.assign(verts_.size(), false);
@@ -228,6 +228,10 @@ class Simplifier {
     for (int w : ring_)
       if (std::binary_search(ringV_.begin(), ringV_.end(), w)) ++common;
     if (common != 2) return false;
+    // v's fan afterwards: u's neighbours join it, u and v leave. A cap keeps
+    // fans (and the work per collapse) bounded on large flat meshes, and
+    // slivers fewer.
+    if (ring_.size() + ringV_.size() - 4 > kMaxValence) return false;
     double moved = 0;   // v from the planes of u's triangles
     double missed = 0;  // u from the planes of the new triangles
     for (int t : vtris_[static_cast<std::size_t>(u)]) {
@@ -276,6 +280,7 @@ class Simplifier {
     err_[static_cast<std::size_t>(v)] = error;
   }
 
+  static constexpr std::size_t kMaxValence = 64;
   SimplifyOptions opt_;
   double eps_ = 0;
   std::vector<Local> verts_;

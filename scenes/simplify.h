@@ -16,7 +16,9 @@
 // - the texture coordinates are affine in the position over the removed
 //   vertex's fan, within `uvTolerance` (any triangulation of the fan then
 //   maps the texture as before),
-// - no triangle of the fan flips or becomes degenerate, and
+// - no triangle of the fan flips or becomes degenerate,
+// - the vertex it merges into keeps at most 64 neighbours (bounded work on
+//   large flat meshes), and
 // - the surface moves by at most `maxError` (scene units), counted
 //   conservatively: the moved vertex's distance to the planes it leaves,
 //   the removed vertex's distance to the new triangles, added up over the

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -110,6 +111,24 @@ TEST(Simplify, PlanarGridKeepsItsOutlineAreaAndTexture) {
     EXPECT_NEAR(uv.x, x / 2 + 0.25, 1e-5);
     EXPECT_NEAR(uv.y, z / 2 + 3.0, 1e-5);
   }
+}
+
+TEST(Simplify, LargeFlatMeshKeepsFansBounded) {
+  const int n = 200;
+  const Mesh m = grid(n);
+  const SimplifiedTriangles s = simplifyTriangles(m, 0, static_cast<std::uint32_t>(m.triangleCount()), {});
+  // Nearly down to its border (4n vertices, 4n − 2 triangles), no vertex
+  // with more than 64 neighbours (plus the two of its own border).
+  EXPECT_LT(s.indices.size() / 3, std::size_t(4 * n + 4 * n / 4));
+  std::vector<std::set<std::uint32_t>> around(m.vertices.size());
+  for (std::size_t t = 0; t < s.indices.size(); t += 3)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        if (j != k) around[s.indices[t + j]].insert(s.indices[t + k]);
+  std::size_t most = 0;
+  for (const auto& a : around) most = std::max(most, a.size());
+  EXPECT_LE(most, 66u);
+  EXPECT_NEAR(signedAreaY(m, s.indices), signedAreaY(m, m.indices), 1e-6);
 }
 
 TEST(Simplify, TwoClustersOfOneGridKeepTheirSharedEdge) {
