@@ -136,16 +136,17 @@ class Simplifier {
         const auto b = static_cast<std::uint64_t>(t[static_cast<std::size_t>((j + 1) % 3)]);
         ++directed[a << 32 | b];
       }
+    const auto uses = [&](int from, int to) {
+      const auto it = directed.find(std::uint64_t(from) << 32 | std::uint64_t(to));
+      return it == directed.end() ? 0 : it->second;
+    };
     for (const auto& t : tris_) {
       const double area2 = glm::length(cross3(verts_[static_cast<std::size_t>(t[0])].p,
                                               verts_[static_cast<std::size_t>(t[1])].p,
                                               verts_[static_cast<std::size_t>(t[2])].p));
       for (int j = 0; j < 3; ++j) {
         const int a = t[static_cast<std::size_t>(j)], b = t[static_cast<std::size_t>((j + 1) % 3)];
-        const auto fwd = directed[std::uint64_t(a) << 32 | std::uint64_t(b)];
-        const auto back = directed.count(std::uint64_t(b) << 32 | std::uint64_t(a))
-                              ? directed[std::uint64_t(b) << 32 | std::uint64_t(a)]
-                              : 0;
+        const int fwd = uses(a, b), back = uses(b, a);
         if (fwd != 1 || back != 1) {  // open, non-manifold or inconsistently oriented
           locked_[static_cast<std::size_t>(a)] = true;
           locked_[static_cast<std::size_t>(b)] = true;

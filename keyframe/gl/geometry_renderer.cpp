@@ -276,9 +276,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
   // list).
   void appendSimplified(const scenes::Mesh& m, const scenes::SimplifiedTriangles& s,
                         std::uint32_t base, DrawItem& d, std::vector<std::uint32_t>& out) {
-    d.simplifiedAll.firstIndex = out.size();
-    d.simplifiedAll.lo = d.all.lo;
-    d.simplifiedAll.hi = d.all.hi;
+    d.simplifiedAll.firstIndex = out.size();  // bounds: d.all's (culling uses those)
     std::size_t k = 0;  // into s's triangles, whose sources increase
     for (std::size_t c = d.clusterBegin; c < d.clusterEnd; ++c) {
       const Range& full = clusters_[c];
