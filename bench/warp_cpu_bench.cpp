@@ -4,7 +4,8 @@
 // (ratios hold on a shared machine): keyframes every `gap` frames of the
 // scene's default path at 512², every frame between them warped.
 // Usage: warp_cpu_bench SCENE [GAP=10] [FRAMES=60]; ONLY=K in the environment times
-// variant K alone (0 GL, 1 CPU 1 thread, 2 CPU 2 threads), for profiling.
+// variant K alone (0 GL, 1 CPU 1 thread, 2 CPU 2 threads), for profiling;
+// EYEZ=1 makes the layers carry eye z (as blend composition needs).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -50,7 +51,7 @@ int main(int argc, char** argv) {
   v[1].name = "CPU, 1 thread";
   v[2].name = "CPU, 2 threads";
   warp::WarpOptions wo;
-  wo.writeEyeZ = false;
+  wo.writeEyeZ = std::getenv("EYEZ") != nullptr;
   auto gw = warp::Warper::create(wo);
   auto c1 = warp::createCpuWarper(wo, 1), c2 = warp::createCpuWarper(wo, 2);
   if (!gw || !c1 || !c2) return std::fprintf(stderr, "warper\n"), 1;

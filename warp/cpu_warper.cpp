@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <immintrin.h>
+#include <barrier>
 #include <thread>
 #include <vector>
 
@@ -69,30 +70,40 @@ Triangle::Plane plane(const double (&sx)[3], const double (&sy)[3], const double
   return {static_cast<float>(a), static_cast<float>(ax), static_cast<float>(ay)};
 }
 
+// The clip planes: a vertex is inside plane p when clipDistance(v, p) >= 0.
+constexpr int kClipPlanes = 6;
+inline double clipDistance(const ClipVertex& v, int plane) {
+  switch (plane) {
+    case 0: return v.z + v.w;             // near (GL: z >= -w)
+    case 1: return kGuard * v.w - v.x;
+    case 2: return kGuard * v.w + v.x;
+    case 3: return kGuard * v.w - v.y;
+    case 4: return kGuard * v.w + v.y;
+    default: return v.w - 1e-12;          // strictly in front of the eye
+  }
+}
+
+// Bit p set: v is outside clip plane p.
+inline unsigned clipOutcode(const ClipVertex& v) {
+  unsigned code = 0;
+  for (int p = 0; p < kClipPlanes; ++p) code |= (clipDistance(v, p) >= 0 ? 0u : 1u) << p;
+  return code;
+}
+
 // Sutherland-Hodgman against d(v) >= 0 for each plane d; at most 3 + 6
 // vertices come out of a triangle and six planes.
 int clipPolygon(ClipVertex* poly, int n, ClipVertex* scratch) {
-  auto distance = [](const ClipVertex& v, int plane) {
-    switch (plane) {
-      case 0: return v.z + v.w;             // near (GL: z >= -w)
-      case 1: return kGuard * v.w - v.x;
-      case 2: return kGuard * v.w + v.x;
-      case 3: return kGuard * v.w - v.y;
-      case 4: return kGuard * v.w + v.y;
-      default: return v.w - 1e-12;          // strictly in front of the eye
-    }
-  };
   ClipVertex* in = poly;
   ClipVertex* out = scratch;
-  for (int plane = 0; plane < 6 && n > 0; ++plane) {
+  for (int plane = 0; plane < kClipPlanes && n > 0; ++plane) {
     bool allIn = true;
-    for (int k = 0; k < n; ++k) allIn = allIn && distance(in[k], plane) >= 0;
+    for (int k = 0; k < n; ++k) allIn = allIn && clipDistance(in[k], plane) >= 0;
     if (allIn) continue;
     int m = 0;
     for (int k = 0; k < n; ++k) {
       const ClipVertex& a = in[k];
       const ClipVertex& b = in[(k + 1) % n];
-      const double da = distance(a, plane), db = distance(b, plane);
+      const double da = clipDistance(a, plane), db = clipDistance(b, plane);
       if (da >= 0) out[m++] = a;
       if ((da >= 0) != (db >= 0)) {
         const double f = da / (da - db);
@@ -352,22 +363,40 @@ __attribute__((target("avx2"), always_inline)) inline void group8(
   const __m256i rowB = _mm256_mullo_epi32(avx2Clamp(_mm256_add_epi32(yi, one), yMax), stride);
   const int* tex = reinterpret_cast<const int*>(r.texture->data());
   __m256i t00, t01, t10, t11;
-  // Texcoords are linear across the 8 pixels: when they stay on one texel
-  // row and within 8 texel columns inside the texture (the usual case, a
-  // view near the keyframe's), two loads per row and a permute stand in for
-  // the gathers.
+  // Texcoords are linear across the 8 pixels: when they stay within two
+  // neighbouring texel rows and 8 texel columns inside the texture (the
+  // usual case, a view near the keyframe's), two loads per row and a permute
+  // stand in for the gathers (slow on some CPUs): rows yLo and yLo + 1 give
+  // the top texels, rows yLo + 1 and yLo + 2 the bottom ones, each lane
+  // picking by its own row.
   const int xFirst = u0 >> 16, xLast = (u0 + 7 * du) >> 16;
   const int yFirst = v0 >> 16, yLast = (v0 + 7 * dv) >> 16;
   const int lo = std::min(xFirst, xLast), hi = std::max(xFirst, xLast);
-  if (yFirst == yLast && yFirst >= 0 && yFirst + 1 < th && lo >= 0 && hi - lo <= 7 && lo + 8 < tw) {
-    const int* top = tex + static_cast<std::size_t>(yFirst) * static_cast<std::size_t>(tw) + lo;
-    const int* bottom = top + tw;
+  const int yLo = std::min(yFirst, yLast), yHi = std::max(yFirst, yLast);
+  if (yHi - yLo <= 1 && yLo >= 0 && yHi + 1 < th && lo >= 0 && hi - lo <= 7 && lo + 8 < tw) {
+    const int* row0 = tex + static_cast<std::size_t>(yLo) * static_cast<std::size_t>(tw) + lo;
+    const int* row1 = row0 + tw;
     const __m256i idx = _mm256_sub_epi32(xi, _mm256_set1_epi32(lo));
     using V = const __m256i*;
-    t00 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(top)), idx);
-    t01 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(top + 1)), idx);
-    t10 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(bottom)), idx);
-    t11 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(bottom + 1)), idx);
+    const __m256i a0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row0)), idx);
+    const __m256i a1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row0 + 1)), idx);
+    const __m256i b0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row1)), idx);
+    const __m256i b1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row1 + 1)), idx);
+    if (yHi == yLo) {
+      t00 = a0;
+      t01 = a1;
+      t10 = b0;
+      t11 = b1;
+    } else {
+      const int* row2 = row1 + tw;
+      const __m256i c0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row2)), idx);
+      const __m256i c1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row2 + 1)), idx);
+      const __m256i down = _mm256_cmpgt_epi32(yi, _mm256_set1_epi32(yLo));  // this lane's top is row yLo + 1
+      t00 = _mm256_blendv_epi8(a0, b0, down);
+      t01 = _mm256_blendv_epi8(a1, b1, down);
+      t10 = _mm256_blendv_epi8(b0, c0, down);
+      t11 = _mm256_blendv_epi8(b1, c1, down);
+    }
   } else {
     t00 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(rowA, x0), 4);
     t01 = _mm256_i32gather_epi32(tex, _mm256_add_epi32(rowA, x1), 4);
@@ -511,17 +540,12 @@ class CpuWarper final : public Warper {
     HW_TRY(checkTarget(target));
     const auto& src = static_cast<const CpuWarpSource&>(source);
     Stopwatch sw;
-    setUp(src, target, fg_);
-    clearTarget(target, out);
-    firstTexture_ = &src.texture;
-    secondTexture_ = nullptr;
-    rasterise(target, out, &fg_, 1, nullptr, 0, false);
-    const int uncovered = foregroundUncovered_;
+    run(target, out, src, nullptr, false);
     if (stats) {
       *stats = WarpStats{};
       stats->drawMs = sw.ms();
       stats->quads = src.quads;
-      stats->uncovered = uncovered;
+      stats->uncovered = foregroundUncovered_;
     }
     return {};
   }
@@ -533,39 +557,27 @@ class CpuWarper final : public Warper {
     const auto& fg = static_cast<const CpuWarpSource&>(foreground);
     const auto* bg = static_cast<const CpuWarpSource*>(background);
     Stopwatch sw;
-    setUp(fg, target, fg_);
-    if (bg) setUp(*bg, target, bg_);
-    clearTarget(target, out);
-    firstTexture_ = &fg.texture;
-    secondTexture_ = bg ? &bg->texture : nullptr;
-    const double setUpMs = sw.lap();
     // Each band draws the foreground, then the background where its rows
     // kept empty pixels (the coverage is the stencil: the background writes
     // only where it is still 0).
-    rasterise(target, out, &fg_, 1, bg ? &bg_ : nullptr, 2, !skipBackgroundWhenCovered);
-    const double drawMs = sw.lap();
-    int fromBg = 0, uncovered = 0;
-    const std::size_t n = out.colour.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint8_t c = out.coverage.data()[i];
-      fromBg += c == 2;
-      uncovered += c == 0;
-    }
+    run(target, out, fg, bg, !skipBackgroundWhenCovered);
+    const double ms = sw.ms();
     if (stats) {
       *stats = PairStats{};
-      // The foreground and background run interleaved per band: the draw
-      // is split between them in proportion to their quads.
+      // Set-up and drawing run interleaved on the threads, the foreground's
+      // and background's too: the time is split between the layers in
+      // proportion to their quads.
       const double fgShare =
           bg ? double(fg.quads + 1) / double(fg.quads + bg->quads + 2) : 1.0;
-      stats->foregroundMs = setUpMs + drawMs * fgShare;
-      stats->backgroundMs = drawMs * (1.0 - fgShare);
-      stats->readbackMs = sw.ms();  // counting the pixels of each layer
+      stats->foregroundMs = ms * fgShare;
+      stats->backgroundMs = ms * (1.0 - fgShare);
+      stats->readbackMs = 0;  // each band counts its own pixels of each layer
       stats->quadsForeground = fg.quads;
       stats->backgroundDrawn = bg && (foregroundUncovered_ > 0 || !skipBackgroundWhenCovered);
       stats->quadsBackground = stats->backgroundDrawn ? bg->quads : 0;
       stats->uncoveredByForeground = foregroundUncovered_;
-      stats->fromBackground = fromBg;
-      stats->uncovered = uncovered;
+      stats->fromBackground = fromBackground_;
+      stats->uncovered = uncovered_;
     }
     return {};
   }
@@ -578,55 +590,79 @@ class CpuWarper final : public Warper {
     return {};
   }
 
-  void clearTarget(const Camera& target, Layer& out) {
+  // Sizes the layer's images (their pixels are cleared by the bands).
+  void sizeTarget(const Camera& target, Layer& out) {
     const int w = target.width, h = target.height;
     if (out.colour.width() != w || out.colour.height() != h) {
       out.colour.resize(w, h);
       out.coverage.resize(w, h);
     }
-    std::fill(out.coverage.data(), out.coverage.data() + out.coverage.size(), 0);
-    std::fill(out.colour.data(), out.colour.data() + out.colour.size(), Rgba8{0, 0, 0, 0});
     if (options_.markLargeQuads) {
       if (out.largeQuad.width() != w || out.largeQuad.height() != h) out.largeQuad.resize(w, h);
-      std::fill(out.largeQuad.data(), out.largeQuad.data() + out.largeQuad.size(), 0);
     } else {
       out.largeQuad.resize(0, 0);
     }
     if (options_.writeEyeZ) {
       if (out.eyeZ.width() != w || out.eyeZ.height() != h) out.eyeZ.resize(w, h);
-      std::fill(out.eyeZ.data(), out.eyeZ.data() + out.eyeZ.size(), 0.0f);
     } else {
       out.eyeZ.resize(0, 0);
     }
     depth_.resize(out.colour.size());
-    std::fill(depth_.begin(), depth_.end(), 1.0f);
   }
 
-  // Transforms, clips and snaps every triangle of `src` seen from `target`.
-  void setUp(const CpuWarpSource& src, const Camera& target, Pass& pass) const {
-    pass.sky.clear();
-    pass.quads.clear();
-    // As the GL warper: the product in double, rounded to float once.
-    const glm::mat4 vp(target.projectionMatrix(DepthMode::Fixed24, options_.infiniteFar) *
-                       target.viewMatrix());
-    const int quadsAndSky = src.quads + src.skyRects;
+  // Clears rows [row0, row1) of the target.
+  void clearRows(Layer& out, int row0, int row1) {
+    const std::size_t w = static_cast<std::size_t>(out.colour.width());
+    const std::size_t i0 = static_cast<std::size_t>(row0) * w, i1 = static_cast<std::size_t>(row1) * w;
+    std::fill(out.coverage.data() + i0, out.coverage.data() + i1, 0);
+    std::fill(out.colour.data() + i0, out.colour.data() + i1, Rgba8{0, 0, 0, 0});
+    if (options_.markLargeQuads) std::fill(out.largeQuad.data() + i0, out.largeQuad.data() + i1, 0);
+    if (options_.writeEyeZ) std::fill(out.eyeZ.data() + i0, out.eyeZ.data() + i1, 0.0f);
+    std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(i0),
+              depth_.begin() + static_cast<std::ptrdiff_t>(i1), 1.0f);
+  }
+
+  // Rounds half away from zero, as std::llround, for |x| < 2^52 (where
+  // x ± 0.5 is exact): the snapped positions here stay far below that.
+  static std::int64_t roundHalfAway(double x) {
+    return static_cast<std::int64_t>(x + std::copysign(0.5, x));
+  }
+
+  // Transforms, clips and snaps the quads and sky rectangles [k0, k1) of
+  // `src` (quads first, then sky) seen through `vp`, appending to `pass`;
+  // adds each triangle's work per row to rowWork (a difference array: +at
+  // minY, -at maxY + 1): a fixed cost and its bounding box's width over
+  // spanShare (the background's spans are cut to the pixels the foreground
+  // left empty, which are few).
+  void setUp(const CpuWarpSource& src, const Camera& target, const glm::mat4& vp, int k0, int k1,
+             Pass& pass, std::int64_t* rowWork, int spanShare) const {
     const double w = target.width, h = target.height;
-    for (int k = 0; k < quadsAndSky; ++k) {
+    for (int k = k0; k < k1; ++k) {
       ClipVertex v[4];
+      unsigned code[4];
+      // Outside one side of the view (every corner past the same clip
+      // plane): no pixel to draw, and nothing to clip or snap.
+      unsigned outside = 0xF;
       for (int c = 0; c < 4; ++c) {
         const std::size_t at = static_cast<std::size_t>(k) * 4 + static_cast<std::size_t>(c);
         const float* p = &src.pos[at * 4];
         const glm::vec4 clip = vp * glm::vec4(p[0], p[1], p[2], p[3]);
         const float* t = &src.tex[at * 3];
         v[c] = {clip.x, clip.y, clip.z, clip.w, t[0], t[1], t[2]};
+        outside &= (v[c].x > v[c].w ? 1u : 0u) | (v[c].x < -v[c].w ? 2u : 0u) |
+                   (v[c].y > v[c].w ? 4u : 0u) | (v[c].y < -v[c].w ? 8u : 0u);
+        code[c] = clipOutcode(v[c]);
       }
+      if (outside) continue;
       const bool sky = k >= src.quads;
       const bool large = !sky && src.large[static_cast<std::size_t>(k)];
       static constexpr int kTri[2][3] = {{0, 1, 2}, {0, 2, 3}};
       for (const auto& tri : kTri) {
         ClipVertex poly[12], scratch[12];
         for (int c = 0; c < 3; ++c) poly[c] = v[tri[c]];
-        const int n = clipPolygon(poly, 3, scratch);
+        // Inside every clip plane (the usual case): nothing to clip.
+        const bool clip = (code[tri[0]] | code[tri[1]] | code[tri[2]]) != 0;
+        const int n = clip ? clipPolygon(poly, 3, scratch) : 3;
         for (int f = 1; f + 1 < n; ++f) {
           const ClipVertex* fan[3] = {&poly[0], &poly[f], &poly[f + 1]};
           Triangle t;
@@ -636,8 +672,8 @@ class CpuWarper final : public Warper {
             const double inv = 1.0 / cv.w;
             sx[c] = (cv.x * inv + 1.0) * 0.5 * w;
             sy[c] = (1.0 - cv.y * inv) * 0.5 * h;
-            t.x[c] = std::llround(sx[c] * kSubPixel);
-            t.y[c] = std::llround(sy[c] * kSubPixel);
+            t.x[c] = roundHalfAway(sx[c] * kSubPixel);
+            t.y[c] = roundHalfAway(sy[c] * kSubPixel);
             sx[c] = static_cast<double>(t.x[c]) / kSubPixel;
             sy[c] = static_cast<double>(t.y[c]) / kSubPixel;
             depth[c] = cv.z * inv * 0.5 + 0.5;
@@ -661,7 +697,6 @@ class CpuWarper final : public Warper {
             std::swap(iw[1], iw[2]);
             area = -area;
           }
-          const double area2 = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
           const std::int64_t loX = std::min({t.x[0], t.x[1], t.x[2]});
           const std::int64_t hiX = std::max({t.x[0], t.x[1], t.x[2]});
           const std::int64_t loY = std::min({t.y[0], t.y[1], t.y[2]});
@@ -672,6 +707,7 @@ class CpuWarper final : public Warper {
           t.minY = static_cast<int>(std::max<std::int64_t>(0, (loY - 128 + 255) >> 8));
           t.maxY = static_cast<int>(std::min<std::int64_t>(target.height - 1, (hiY - 128) >> 8));
           if (t.minX > t.maxX || t.minY > t.maxY) continue;
+          const double area2 = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
           t.depth = plane(sx, sy, depth, area2);
           t.p = plane(sx, sy, ps, area2);
           t.q = plane(sx, sy, qs, area2);
@@ -680,15 +716,40 @@ class CpuWarper final : public Warper {
           t.sky = sky;
           t.large = large;
           (sky ? pass.sky : pass.quads).push_back(t);
+          // A row's work: its span (the box's width, at most) and a fixed
+          // cost for the row's edge set-up.
+          const std::int64_t rowCost = (t.maxX - t.minX + 1) / spanShare + 16;
+          rowWork[t.minY] += rowCost;
+          rowWork[t.maxY + 1] -= rowCost;
         }
       }
     }
   }
 
-  // Draws `first` (coverage value firstLayer), then `second` where the first
-  // left pixels empty, band by band on threads_ threads.
-  void rasterise(const Camera& target, Layer& out, const Pass* first, std::uint8_t firstLayer,
-                 const Pass* second, std::uint8_t secondLayer, bool secondAlways) {
+  // Warps `fg` (coverage value 1), then `bg` (2) where the foreground left
+  // pixels empty (always, with `bgAlways`, else only in rows it left some)
+  // into `out`, on threads_ threads: each sets up its share of the quads of
+  // both, then draws a band of rows, the bands cut so their estimated work
+  // (the triangles' pixels per row) is about even. Pixels do not depend on
+  // the number of threads: every band draws every triangle in the same order.
+  void run(const Camera& target, Layer& out, const CpuWarpSource& fg, const CpuWarpSource* bg,
+           bool bgAlways) {
+    sizeTarget(target, out);
+    const int threads = std::max(1, std::min(threads_, target.height));
+    const std::size_t T = static_cast<std::size_t>(threads);
+    const std::size_t rows = static_cast<std::size_t>(target.height);
+    fgParts_.resize(T);
+    bgParts_.resize(T);
+    rowWork_.assign(T * (rows + 1), 0);
+    bandUncovered_.assign(T, 0);
+    bandFromBackground_.assign(T, 0);
+    bandUncoveredAfter_.assign(T, 0);
+    firstEmpty_.resize(rows);
+    lastEmpty_.resize(rows);
+    bandRows_.resize(T + 1);
+    // As the GL warper: the product in double, rounded to float once.
+    const glm::mat4 vp(target.projectionMatrix(DepthMode::Fixed24, options_.infiniteFar) *
+                       target.viewMatrix());
     Raster r{target.width,
              target.height,
              nullptr,
@@ -698,16 +759,48 @@ class CpuWarper final : public Warper {
              options_.writeEyeZ ? out.eyeZ.data() : nullptr,
              depth_.data()};
     r.avx2 = avx2_;
-    const int bands = std::max(1, std::min(threads_, target.height));
-    bandUncovered_.assign(static_cast<std::size_t>(bands), 0);
-    firstEmpty_.resize(static_cast<std::size_t>(target.height));
-    lastEmpty_.resize(static_cast<std::size_t>(target.height));
-    auto band = [&](int b) {
+    auto cutBands = [this, T, rows]() noexcept {
+      std::int64_t total = 0, perRow = 0;
+      for (std::size_t y = 0; y < rows; ++y) {
+        for (std::size_t k = 0; k < T; ++k) perRow += rowWork_[k * (rows + 1) + y];
+        total += perRow;
+      }
+      bandRows_[0] = 0;
+      std::size_t b = 1;
+      std::int64_t sum = 0;
+      perRow = 0;
+      for (std::size_t y = 0; y < rows && b < T; ++y) {
+        for (std::size_t k = 0; k < T; ++k) perRow += rowWork_[k * (rows + 1) + y];
+        sum += perRow;
+        // Row y ends band b - 1 once the work so far reaches its share.
+        while (b < T && sum * static_cast<std::int64_t>(T) >= total * static_cast<std::int64_t>(b))
+          bandRows_[b++] = static_cast<int>(y + 1);
+      }
+      for (; b <= T; ++b) bandRows_[b] = static_cast<int>(rows);
+    };
+    std::barrier sync(threads, cutBands);
+    auto work = [&](int b) {
+      const std::size_t bi = static_cast<std::size_t>(b);
+      std::int64_t* rowWork = &rowWork_[bi * (rows + 1)];
+      for (const auto& [src, parts] :
+           {std::pair{&fg, &fgParts_}, std::pair{bg, &bgParts_}}) {
+        Pass& part = (*parts)[bi];
+        part.sky.clear();
+        part.quads.clear();
+        if (!src) continue;
+        const int n = src->quads + src->skyRects;
+        setUp(*src, target, vp, n * b / threads, n * (b + 1) / threads, part, rowWork,
+              src == &fg ? 1 : 4);
+      }
+      sync.arrive_and_wait();  // the completion cuts the bands
+      const int row0 = bandRows_[bi], row1 = bandRows_[bi + 1];
+      clearRows(out, row0, row1);
       Raster rb = r;
-      const int row0 = target.height * b / bands, row1 = target.height * (b + 1) / bands;
-      rb.texture = firstTexture_;
-      for (const Triangle& t : first->sky) rb.draw(t, row0, row1, firstLayer);
-      for (const Triangle& t : first->quads) rb.draw(t, row0, row1, firstLayer);
+      rb.texture = &fg.texture;
+      for (const Pass& p : fgParts_)
+        for (const Triangle& t : p.sky) rb.draw(t, row0, row1, 1);
+      for (const Pass& p : fgParts_)
+        for (const Triangle& t : p.quads) rb.draw(t, row0, row1, 1);
       int empty = 0;
       const std::size_t w = static_cast<std::size_t>(target.width);
       for (int y = row0; y < row1; ++y) {
@@ -736,35 +829,56 @@ class CpuWarper final : public Warper {
         lastEmpty_[static_cast<std::size_t>(y)] = hi;
         empty += n;
       }
-      bandUncovered_[static_cast<std::size_t>(b)] = empty;
-      rb.firstEmpty = firstEmpty_.data();
-      rb.lastEmpty = lastEmpty_.data();
-      if (!second || (empty == 0 && !secondAlways)) return;
+      bandUncovered_[bi] = empty;
+      bandUncoveredAfter_[bi] = empty;
+      if (!bg || (empty == 0 && !bgAlways)) return;
       // The background's own depth test: the pixels it may write still hold
       // the cleared depth (the foreground wrote depth only where it wrote).
-      rb.texture = secondTexture_;
-      for (const Triangle& t : second->sky) rb.draw(t, row0, row1, secondLayer);
-      for (const Triangle& t : second->quads) rb.draw(t, row0, row1, secondLayer);
+      rb.firstEmpty = firstEmpty_.data();
+      rb.lastEmpty = lastEmpty_.data();
+      rb.texture = &bg->texture;
+      for (const Pass& p : bgParts_)
+        for (const Triangle& t : p.sky) rb.draw(t, row0, row1, 2);
+      for (const Pass& p : bgParts_)
+        for (const Triangle& t : p.quads) rb.draw(t, row0, row1, 2);
+      // What the background gave and what is still empty, in this band's rows.
+      int fromBg = 0, still = 0;
+      for (int y = row0; y < row1; ++y) {
+        if (firstEmpty_[static_cast<std::size_t>(y)] < 0) continue;
+        const std::uint8_t* c = rb.coverage + static_cast<std::size_t>(y) * w;
+        for (int x = firstEmpty_[static_cast<std::size_t>(y)]; x <= lastEmpty_[static_cast<std::size_t>(y)]; ++x) {
+          fromBg += c[x] == 2;
+          still += c[x] == 0;
+        }
+      }
+      bandFromBackground_[bi] = fromBg;
+      bandUncoveredAfter_[bi] = still;
     };
-    std::vector<std::thread> helpers;
-    helpers.reserve(static_cast<std::size_t>(bands - 1));
-    for (int b = 1; b < bands; ++b) helpers.emplace_back(band, b);
-    band(0);
+    std::vector<std::thread>& helpers = helpers_;
+    helpers.clear();
+    for (int b = 1; b < threads; ++b) helpers.emplace_back(work, b);
+    work(0);
     for (std::thread& t : helpers) t.join();
-    foregroundUncovered_ = 0;
-    for (int e : bandUncovered_) foregroundUncovered_ += e;
+    helpers.clear();
+    foregroundUncovered_ = fromBackground_ = uncovered_ = 0;
+    for (std::size_t b = 0; b < T; ++b) {
+      foregroundUncovered_ += bandUncovered_[b];
+      fromBackground_ += bandFromBackground_[b];
+      uncovered_ += bandUncoveredAfter_[b];
+    }
   }
 
   WarpOptions options_;
   int threads_;
   bool avx2_;
-  Pass fg_, bg_;
+  std::vector<Pass> fgParts_, bgParts_;  // per thread
   std::vector<float> depth_;
-  std::vector<int> bandUncovered_;
+  std::vector<std::int64_t> rowWork_;    // per thread, rows + 1
+  std::vector<int> bandRows_;
+  std::vector<int> bandUncovered_, bandFromBackground_, bandUncoveredAfter_;
   std::vector<int> firstEmpty_, lastEmpty_;
-  int foregroundUncovered_ = 0;
-  const Image<Rgba8>* firstTexture_ = nullptr;
-  const Image<Rgba8>* secondTexture_ = nullptr;
+  std::vector<std::thread> helpers_;
+  int foregroundUncovered_ = 0, fromBackground_ = 0, uncovered_ = 0;
 };
 
 }  // namespace

@@ -159,6 +159,64 @@ TEST_F(CpuWarpTest, KeyframeComesBackAtItsOwnCamera) {
   EXPECT_GE(psnr(layer.colour, a.kf.colour), 50.0);
 }
 
+// Threads split the set-up and the rows (cut where the work is): the pixels
+// and the counts must not depend on how many there are, and the counts must
+// be those of the layer written. A camera turned away from the keyframes'
+// (quads off screen, some behind the eye) takes the paths that skip or clip
+// quads.
+TEST_F(CpuWarpTest, PixelsDoNotDependOnThreads) {
+  const scenes::Scene scene = scenes::makeIndoorScene(20000);
+  const scenes::CameraPath path = scenes::defaultIndoorPath();
+  auto r = keyframe::GeometryRenderer::create(scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  Camera c0 = path.cameraAt(20), c1 = path.cameraAt(30);
+  c0.width = c1.width = 256;
+  c0.height = c1.height = 192;
+  const Rendered a = render(**r, c0), b = render(**r, c1);
+  Camera near = path.cameraAt(24);
+  near.width = 256;
+  near.height = 192;
+  // Turned 60 degrees: the keyframes' quads partly off screen, partly behind.
+  const Camera away = Camera::lookAt(c0.eye, c0.eye + 0.5 * c0.forward + 0.866 * c0.right, c0.up,
+                                     c0.fovYRadians, 256, 192, c0.nearPlane, c0.farPlane);
+  warp::WarpOptions wo;
+  wo.writeEyeZ = true;
+  for (const Camera& cam : {near, away}) {
+    warp::Layer first;
+    warp::PairStats firstStats;
+    for (int threads : {1, 2, 3, 7}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      auto w = warp::createCpuWarper(wo, threads);
+      ASSERT_TRUE(w.ok());
+      auto sa = (*w)->upload(a.kf, a.mesh), sb = (*w)->upload(b.kf, b.mesh);
+      ASSERT_TRUE(sa.ok() && sb.ok());
+      warp::Layer layer;
+      warp::PairStats st;
+      ASSERT_TRUE((*w)->warpPair(**sa, sb->get(), cam, layer, false, &st).ok());
+      long long fromBg = 0, empty = 0, fromFg = 0;
+      for (std::size_t i = 0; i < layer.coverage.size(); ++i) {
+        fromFg += layer.coverage.data()[i] == 1;
+        fromBg += layer.coverage.data()[i] == 2;
+        empty += layer.coverage.data()[i] == 0;
+      }
+      EXPECT_GT(fromFg, 0);
+      EXPECT_EQ(st.fromBackground, fromBg);
+      EXPECT_EQ(st.uncovered, empty);
+      EXPECT_EQ(st.uncoveredByForeground, fromBg + empty);
+      if (threads == 1) {
+        first = layer;
+        firstStats = st;
+        continue;
+      }
+      EXPECT_EQ(layer.colour.pixels(), first.colour.pixels());
+      EXPECT_EQ(layer.coverage.pixels(), first.coverage.pixels());
+      EXPECT_EQ(layer.largeQuad.pixels(), first.largeQuad.pixels());
+      EXPECT_EQ(layer.eyeZ.pixels(), first.eyeZ.pixels());
+      EXPECT_EQ(st.uncoveredByForeground, firstStats.uncoveredByForeground);
+    }
+  }
+}
+
 TEST(CpuWarper, RefusesWhatItCannotDraw) {
   warp::WarpOptions o;
   o.subdivision = warp::Subdivision::Uniform;
