@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <cstring>
 #include <immintrin.h>
-#include <barrier>
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -470,6 +472,40 @@ __attribute__((target("avx2"))) void spanAvx2(const Raster& r, const Triangle& t
   }
 }
 
+// A one-use barrier for the warper's threads: the last to arrive runs the
+// completion, then all go on. Waiters spin briefly (the threads' set-up
+// shares are even, so they arrive close together), then sleep on a
+// condition variable. (libstdc++ 12's std::barrier was seen to wake a
+// waiter about 1 ms late.)
+class Rendezvous {
+ public:
+  explicit Rendezvous(int threads) : left_(threads) {}
+  template <typename F>
+  void arriveAndWait(F&& completion) {
+    if (left_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      completion();
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_.store(true, std::memory_order_release);
+      }
+      cv_.notify_all();
+      return;
+    }
+    for (int spin = 0; spin < 20000; ++spin) {
+      if (done_.load(std::memory_order_acquire)) return;
+      _mm_pause();
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [&] { return done_.load(std::memory_order_acquire); });
+  }
+
+ private:
+  std::atomic<int> left_;
+  std::atomic<bool> done_{false};
+  std::mutex mutex_;
+  std::condition_variable cv_;
+};
+
 class CpuWarper final : public Warper {
  public:
   CpuWarper(const WarpOptions& options, int threads, bool simd)
@@ -759,7 +795,7 @@ class CpuWarper final : public Warper {
              options_.writeEyeZ ? out.eyeZ.data() : nullptr,
              depth_.data()};
     r.avx2 = avx2_;
-    auto cutBands = [this, T, rows]() noexcept {
+    auto cutBands = [this, T, rows] {
       std::int64_t total = 0, perRow = 0;
       for (std::size_t y = 0; y < rows; ++y) {
         for (std::size_t k = 0; k < T; ++k) perRow += rowWork_[k * (rows + 1) + y];
@@ -778,7 +814,7 @@ class CpuWarper final : public Warper {
       }
       for (; b <= T; ++b) bandRows_[b] = static_cast<int>(rows);
     };
-    std::barrier sync(threads, cutBands);
+    Rendezvous sync(threads);
     auto work = [&](int b) {
       const std::size_t bi = static_cast<std::size_t>(b);
       std::int64_t* rowWork = &rowWork_[bi * (rows + 1)];
@@ -792,7 +828,7 @@ class CpuWarper final : public Warper {
         setUp(*src, target, vp, n * b / threads, n * (b + 1) / threads, part, rowWork,
               src == &fg ? 1 : 4);
       }
-      sync.arrive_and_wait();  // the completion cuts the bands
+      sync.arriveAndWait(cutBands);
       const int row0 = bandRows_[bi], row1 = bandRows_[bi + 1];
       clearRows(out, row0, row1);
       Raster rb = r;
