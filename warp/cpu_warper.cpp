@@ -323,6 +323,18 @@ __attribute__((target("avx2"))) inline __m256i avx2Lerp(__m256i a, __m256i b, __
       8);
 }
 
+// Texels p[idx] of each lane for lane indices 0..7 (`wide` false) or 0..15
+// (p[0..15] loaded as two vectors, the lanes with idx > 7 (`high`) taking
+// the second; vpermd reads the low 3 bits of an index, idx and idx - 8 alike).
+__attribute__((target("avx2"), always_inline)) inline __m256i avx2Pick(const int* p, __m256i idx,
+                                                                       __m256i high, bool wide) {
+  using V = const __m256i*;
+  const __m256i low = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(p)), idx);
+  if (!wide) return low;
+  return _mm256_blendv_epi8(
+      low, _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(p + 8)), idx), high);
+}
+
 // 8 pixels from index i0 (the first m of them): texcoords u0 + k·du,
 // v0 + k·dv, depth d0 + k·t.depth.ax, 1/eye z iw0 + k·t.invW.ax.
 // `whole`: all 8 pixels lie in this row (then the stores are a load, a
@@ -366,24 +378,26 @@ __attribute__((target("avx2"), always_inline)) inline void group8(
   const int* tex = reinterpret_cast<const int*>(r.texture->data());
   __m256i t00, t01, t10, t11;
   // Texcoords are linear across the 8 pixels: when they stay within two
-  // neighbouring texel rows and 8 texel columns inside the texture (the
-  // usual case, a view near the keyframe's), two loads per row and a permute
-  // stand in for the gathers (slow on some CPUs): rows yLo and yLo + 1 give
-  // the top texels, rows yLo + 1 and yLo + 2 the bottom ones, each lane
+  // neighbouring texel rows and 16 texel columns inside the texture (the
+  // usual case, a view near the keyframe's), loads and permutes stand in for
+  // the gathers (slow on some CPUs). Per row, the texels at x (`at`) and
+  // x + 1 (`next`) of each lane: one load each when the columns span at
+  // most 8, else two and a blend by the lane's column. Rows yLo and yLo + 1
+  // give the top texels, rows yLo + 1 and yLo + 2 the bottom ones, each lane
   // picking by its own row.
   const int xFirst = u0 >> 16, xLast = (u0 + 7 * du) >> 16;
   const int yFirst = v0 >> 16, yLast = (v0 + 7 * dv) >> 16;
   const int lo = std::min(xFirst, xLast), hi = std::max(xFirst, xLast);
   const int yLo = std::min(yFirst, yLast), yHi = std::max(yFirst, yLast);
-  if (yHi - yLo <= 1 && yLo >= 0 && yHi + 1 < th && lo >= 0 && hi - lo <= 7 && lo + 8 < tw) {
+  const bool wide = hi - lo > 7;
+  if (yHi - yLo <= 1 && yLo >= 0 && yHi + 1 < th && lo >= 0 && hi - lo <= 15 &&
+      lo + (wide ? 16 : 8) < tw) {
+    const __m256i idx = _mm256_sub_epi32(xi, _mm256_set1_epi32(lo));
+    const __m256i high = _mm256_cmpgt_epi32(idx, _mm256_set1_epi32(7));  // columns lo + 8 on
     const int* row0 = tex + static_cast<std::size_t>(yLo) * static_cast<std::size_t>(tw) + lo;
     const int* row1 = row0 + tw;
-    const __m256i idx = _mm256_sub_epi32(xi, _mm256_set1_epi32(lo));
-    using V = const __m256i*;
-    const __m256i a0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row0)), idx);
-    const __m256i a1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row0 + 1)), idx);
-    const __m256i b0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row1)), idx);
-    const __m256i b1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row1 + 1)), idx);
+    const __m256i a0 = avx2Pick(row0, idx, high, wide), a1 = avx2Pick(row0 + 1, idx, high, wide);
+    const __m256i b0 = avx2Pick(row1, idx, high, wide), b1 = avx2Pick(row1 + 1, idx, high, wide);
     if (yHi == yLo) {
       t00 = a0;
       t01 = a1;
@@ -391,8 +405,7 @@ __attribute__((target("avx2"), always_inline)) inline void group8(
       t11 = b1;
     } else {
       const int* row2 = row1 + tw;
-      const __m256i c0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row2)), idx);
-      const __m256i c1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<V>(row2 + 1)), idx);
+      const __m256i c0 = avx2Pick(row2, idx, high, wide), c1 = avx2Pick(row2 + 1, idx, high, wide);
       const __m256i down = _mm256_cmpgt_epi32(yi, _mm256_set1_epi32(yLo));  // this lane's top is row yLo + 1
       t00 = _mm256_blendv_epi8(a0, b0, down);
       t01 = _mm256_blendv_epi8(a1, b1, down);
