@@ -61,6 +61,10 @@ struct ViewerOptions {
   double renderHolesBudget = 0;
   // The hole rectangles drawn from the simplified scene (WalkOptions::simplifyHoles).
   bool simplifyHoles = false;
+  // What draws the warped layers, and the CPU warper's threads
+  // (WalkOptions::warper, warperThreads).
+  warp::WarperChoice warper = warp::WarperChoice::Auto;
+  int warperThreads = session::WalkOptions{}.warperThreads;
   // Frames between keyframes of the play/default path (its keyframe_every,
   // which sets the keyframe spacing); 0 = the path's own (`view --keyframe-every`).
   int keyframeEvery = 0;

@@ -15,6 +15,8 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->renderHoles = walk.renderHoles;
   out->renderHolesBudget = walk.renderHolesBudget;
   out->simplifyHoles = walk.simplifyHoles;
+  out->warper = walk.warper;
+  out->warperThreads = walk.warperThreads;
 }
 
 Status checkViewerOptions(const ViewerOptions& o) {

@@ -46,11 +46,11 @@ Result<std::unique_ptr<FrameEngine>> FrameEngine::create(const scenes::Scene& sc
   e->wopt_ = options.warp;
   e->wopt_.writeEyeZ = options.inBetween.needsEyeZ() || writeEyeZ;
   e->wopt_.markLargeQuads = e->wopt_.markLargeQuads && markLargeQuads;
-  HW_TRY(e->createWarper(options.warper));
+  HW_TRY(e->createWarper(options.warper, options.warperThreads));
   return e;
 }
 
-Status FrameEngine::createWarper(warp::WarperChoice choice) {
+Status FrameEngine::createWarper(warp::WarperChoice choice, int cpuThreads) {
   const std::string unsupported = warp::cpuWarperUnsupported(wopt_);
   const char* rendererName = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const bool software = rendererName && warp::isSoftwareRasteriser(rendererName);
@@ -59,7 +59,7 @@ Status FrameEngine::createWarper(warp::WarperChoice choice) {
                      "; use --warper gl or auto");
   cpuWarper_ = choice == warp::WarperChoice::Cpu ||
                (choice == warp::WarperChoice::Auto && software && unsupported.empty());
-  auto warper = cpuWarper_ ? warp::createCpuWarper(wopt_, kCpuWarperThreads)
+  auto warper = cpuWarper_ ? warp::createCpuWarper(wopt_, cpuThreads)
                            : warp::Warper::create(wopt_);
   if (!warper) return warper.error();
   warper_ = std::move(*warper);

@@ -130,10 +130,7 @@ class FrameEngine {
   InBetweenStep step_;
   DepthMode depthMode_;
   std::unique_ptr<keyframe::GeometryRenderer> renderer_;
-  // The CPU warper's threads: one, beside the keyframe worker and the GL
-  // rasteriser's threads on the same cores (docs/results/2026-12-06/cpu-warper).
-  static constexpr int kCpuWarperThreads = 1;
-  Status createWarper(warp::WarperChoice choice);
+  Status createWarper(warp::WarperChoice choice, int cpuThreads);
 
   warp::WarpOptions wopt_;
   std::unique_ptr<warp::Warper> warper_;

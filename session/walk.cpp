@@ -1071,6 +1071,7 @@ void WalkLoop::summariseLod(json& s) const {
   s["layers"] = ib.fused() ? "fused" : "separate";
   s["warper_option"] = warp::warperChoiceName(opt_.warper);
   s["warper"] = engine_->cpuWarper() ? "cpu" : "gl";
+  s["warper_threads"] = engine_->cpuWarper() ? json(opt_.warperThreads) : json(nullptr);
   s["near_distance"] = ib.nearDistance;
   s["fallback"] = gapfill::fallbackName(ib.fallback);
   s["render_holes"] = opt_.renderHoles;

@@ -48,6 +48,11 @@ struct WalkOptions {
   // Which warper draws the layers; Auto: the CPU warper on a CPU rasteriser
   // (llvmpipe), where it measured faster, else GL (warp/cpu_warper.h).
   warp::WarperChoice warper = warp::WarperChoice::Auto;
+  // The CPU warper's threads (each sets up a share of the quads and draws a
+  // band of rows): two measured 20-30 % faster layers than one on 2 cores,
+  // beside the keyframe worker and llvmpipe's threads
+  // (docs/results/2026-12-07/cpu-warper-threads).
+  int warperThreads = 2;
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path
   // Output (all optional; empty outDir = write nothing).

@@ -68,6 +68,8 @@ Status Viewer::setUp() {
   session::WalkOptions engineOptions;
   engineOptions.renderHoles = opt_.renderHoles;
   engineOptions.simplifyHoles = opt_.simplifyHoles;
+  engineOptions.warper = opt_.warper;
+  engineOptions.warperThreads = opt_.warperThreads;
   auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);
   if (!engine) return engine.error();
   engine_ = std::move(*engine);

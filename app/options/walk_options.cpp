@@ -222,6 +222,15 @@ OptionRow<WalkOptions> warperRow() {
       "--subdivide, --primitives points, --texcoords affine or --cull-background)");
 }
 
+OptionRow<WalkOptions> warperThreadsRow() {
+  return valueRow<WalkOptions, int>(
+      "--warper-threads", +[](WalkOptions& o) -> int& { return o.warperThreads; }, kComposition,
+      "threads",
+      "With the CPU warper: threads drawing the layers (each sets up a share of the quads, then "
+      "draws a band of rows; the pixels do not depend on it)",
+      CLI::Range(1, 64));
+}
+
 WalkRows compositionRows() {
   WalkRows rows = {
       choiceRow<WalkOptions>(
@@ -257,6 +266,7 @@ WalkRows compositionRows() {
           "separate (the paper's two layers read back and composed on the CPU). Depth-merge "
           "always uses separate"),
       warperRow(),
+      warperThreadsRow(),
       valueRow<WalkOptions, double>(
           "--near", +[](WalkOptions& o) -> double& { return o.inBetween.nearDistance; },
           kComposition, "scene units",
@@ -469,6 +479,7 @@ WalkRows viewRows() {
   for (auto& r : lodRows()) rows.push_back(r);
   for (auto& r : holeRows()) rows.push_back(r);
   rows.push_back(warperRow());
+  rows.push_back(warperThreadsRow());
   rows.push_back(withHelp(
       asyncRow(),
       "Render and mesh keyframes ahead on a worker thread with a second OpenGL context (a "

@@ -280,6 +280,18 @@ TEST(ViewerPresets, TheViewerTakesThePresetsModeLodAndWorker) {
   EXPECT_EQ(plain.lod.tauParallaxPx, paper.lod.tauParallaxPx);
 }
 
+// `view --warper` and `--warper-threads` reach the viewer's engine.
+TEST(ViewerPresets, TheViewerTakesTheWarperOptions) {
+  session::WalkOptions w = session::presetOptions(session::Preset::Default);
+  w.warper = warp::WarperChoice::Gl;
+  w.warperThreads = 3;
+  app::ViewerOptions v;
+  app::applyWalkOptions(w, &v);
+  EXPECT_EQ(v.warper, warp::WarperChoice::Gl);
+  EXPECT_EQ(v.warperThreads, 3);
+  EXPECT_EQ(app::ViewerOptions{}.warperThreads, session::WalkOptions{}.warperThreads);
+}
+
 TEST(Viewer, BadPlayPathIsAnErrorExit) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr)
       << "no DISPLAY: run under xvfb-run (scripts/test.sh does)";
