@@ -7,7 +7,9 @@
 #include <immintrin.h>
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -519,10 +521,88 @@ class Rendezvous {
   std::condition_variable cv_;
 };
 
+// The warper's helper threads, started once: run(n, fn) calls fn(b) for b
+// in [1, n) on helpers and fn(0) on the caller, and returns when all are
+// done. Helpers sleep on a condition variable between calls.
+class HelperThreads {
+ public:
+  // Error when a thread cannot be started (say, a process thread limit).
+  static Result<std::unique_ptr<HelperThreads>> create(int helpers) {
+    std::unique_ptr<HelperThreads> h(new HelperThreads);
+    try {
+      for (int k = 0; k < helpers; ++k) h->threads_.emplace_back([p = h.get(), k] { p->loop(k + 1); });
+    } catch (const std::system_error& e) {
+      return makeError("CPU warper: could not start thread " + std::to_string(h->threads_.size() + 2) +
+                       " of " + std::to_string(helpers + 1) + " (" + e.what() +
+                       "); use fewer --warper-threads");
+    }
+    return h;
+  }
+  ~HelperThreads() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+  int helpers() const { return static_cast<int>(threads_.size()); }
+
+  template <typename F>
+  void run(int n, F& fn) {
+    const int others = std::min(n - 1, helpers());
+    if (others > 0) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        job_ = [&fn](int b) { fn(b); };
+        active_ = others + 1;
+        pending_ = others;
+        ++generation_;
+      }
+      wake_.notify_all();
+    }
+    fn(0);
+    if (others > 0) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      done_.wait(lock, [&] { return pending_ == 0; });
+      job_ = nullptr;
+    }
+  }
+
+ private:
+  HelperThreads() = default;
+  void loop(int b) {
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      if (b >= active_) continue;
+      lock.unlock();
+      job_(b);
+      lock.lock();
+      if (--pending_ == 0) done_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> threads_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void(int)> job_;
+  std::uint64_t generation_ = 0;
+  int active_ = 0, pending_ = 0;
+  bool stop_ = false;
+};
+
 class CpuWarper final : public Warper {
  public:
-  CpuWarper(const WarpOptions& options, int threads, bool simd)
-      : options_(options), threads_(threads), avx2_(simd && __builtin_cpu_supports("avx2")) {}
+  CpuWarper(const WarpOptions& options, int threads, bool simd,
+            std::unique_ptr<HelperThreads> helpers)
+      : options_(options),
+        threads_(threads),
+        avx2_(simd && __builtin_cpu_supports("avx2")),
+        helpers_(std::move(helpers)) {}
 
   const WarpOptions& options() const override { return options_; }
 
@@ -903,12 +983,7 @@ class CpuWarper final : public Warper {
       bandFromBackground_[bi] = fromBg;
       bandUncoveredAfter_[bi] = still;
     };
-    std::vector<std::thread>& helpers = helpers_;
-    helpers.clear();
-    for (int b = 1; b < threads; ++b) helpers.emplace_back(work, b);
-    work(0);
-    for (std::thread& t : helpers) t.join();
-    helpers.clear();
+    helpers_->run(threads, work);
     foregroundUncovered_ = fromBackground_ = uncovered_ = 0;
     for (std::size_t b = 0; b < T; ++b) {
       foregroundUncovered_ += bandUncovered_[b];
@@ -926,7 +1001,7 @@ class CpuWarper final : public Warper {
   std::vector<int> bandRows_;
   std::vector<int> bandUncovered_, bandFromBackground_, bandUncoveredAfter_;
   std::vector<int> firstEmpty_, lastEmpty_;
-  std::vector<std::thread> helpers_;
+  std::unique_ptr<HelperThreads> helpers_;  // threads_ - 1 of them
   int foregroundUncovered_ = 0, fromBackground_ = 0, uncovered_ = 0;
 };
 
@@ -961,7 +1036,9 @@ Result<std::unique_ptr<Warper>> createCpuWarper(const WarpOptions& options, int 
   const std::string why = cpuWarperUnsupported(options);
   if (!why.empty()) return makeError("the CPU warper does not support " + why);
   if (threads < 1) return makeError("CPU warper: " + std::to_string(threads) + " threads: expected at least 1");
-  return std::unique_ptr<Warper>(new CpuWarper(options, threads, simd));
+  auto helpers = HelperThreads::create(threads - 1);
+  if (!helpers) return helpers.error();
+  return std::unique_ptr<Warper>(new CpuWarper(options, threads, simd, std::move(*helpers)));
 }
 
 }  // namespace hw::warp
