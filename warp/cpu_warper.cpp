@@ -751,9 +751,12 @@ class CpuWarper final : public Warper {
               depth_.begin() + static_cast<std::ptrdiff_t>(i1), 1.0f);
   }
 
-  // Rounds half away from zero, as std::llround, for |x| < 2^52 (where
-  // x ± 0.5 is exact): the snapped positions here stay far below that.
+  // Rounds half away from zero, as std::llround, for |x| < 2^52 (the
+  // snapped positions here stay far below). For 0.5 <= |x|, x ± 0.5 is
+  // exact wherever the truncation could change (it stays in x's binade
+  // there); below 0.5 it may round up to 1, so those are 0 outright.
   static std::int64_t roundHalfAway(double x) {
+    if (std::fabs(x) < 0.5) return 0;
     return static_cast<std::int64_t>(x + std::copysign(0.5, x));
   }
 
