@@ -48,10 +48,10 @@ struct WalkOptions {
   // Which warper draws the layers; Auto: the CPU warper on a CPU rasteriser
   // (llvmpipe), where it measured faster, else GL (warp/cpu_warper.h).
   warp::WarperChoice warper = warp::WarperChoice::Auto;
-  // The CPU warper's threads (each sets up a share of the quads and draws a
-  // band of rows): two measured 20-30 % faster layers than one on 2 cores,
-  // beside the keyframe worker and llvmpipe's threads
-  // (docs/results/2026-12-07/cpu-warper-threads).
+  // The CPU warper's threads (they set up the quads between them, then each
+  // draws a band of rows): on 2 cores, beside the keyframe worker and
+  // llvmpipe's threads, two drew the layers in 0.68-0.87x one's time on 7
+  // scenes (docs/results/2026-12-07/cpu-warper-threads).
   int warperThreads = 2;
   bool reference = true;                        // render and compare the geometry frame
   int maxFrames = 0;                            // 0 = all frames of the path

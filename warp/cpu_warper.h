@@ -37,11 +37,12 @@ bool isSoftwareRasteriser(const std::string& glRenderer);
 // Empty when `options` can be warped on the CPU, else what cannot.
 std::string cpuWarperUnsupported(const WarpOptions& options);
 
-// `threads` >= 1: each thread sets up a share of the quads, then draws a
-// band of the target's rows (bands cut so their estimated work is even);
-// pixels and counts do not depend on the number. `simd`: 8 pixels at a time where the CPU has AVX2 (else, or
-// false, one at a time; the same pixels to within a level). Error when
-// cpuWarperUnsupported(options) is not empty.
+// `threads` >= 1: the threads set up the quads between them, then each
+// draws a band of the target's rows (bands cut so their estimated work is
+// even); pixels and counts do not depend on the number. The threads start
+// here (an error if one cannot). `simd`: 8 pixels at a time where the CPU
+// has AVX2 (else, or false, one at a time; the same pixels to within a
+// level). Error when cpuWarperUnsupported(options) is not empty.
 Result<std::unique_ptr<Warper>> createCpuWarper(const WarpOptions& options, int threads = 1,
                                                 bool simd = true);
 
