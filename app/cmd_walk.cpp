@@ -210,6 +210,14 @@ int run(WalkCli& o, [[maybe_unused]] int argc, [[maybe_unused]] char** argv) {
     wo.keyframeFrames = p->keyframes;
     planned = std::move(*p);
   }
+  // Auto's pinned choices: named by every option that shapes the walk (not
+  // the outputs) and the scene as given.
+  wo.modePinDir = session::defaultModePinDir();
+  wo.modePinContext = "scene=" + o.walkC.scene + "\nkeyframes=" + o.walkKeyframes +
+                      "\nschedule=" + o.schedule + "\n";
+  for (const auto& row : walkRows())
+    if (row.name != "--save-frames" && row.name != "--strips" && row.name != "--auto-pin")
+      wo.modePinContext += row.name + "=" + row.show(wo) + "\n";
   auto res = session::runWalk(in->scene, o.walkC.scene, in->path, wo);
   if (!res) return fail(res.error().message);
   if (!wo.outDir.empty()) {

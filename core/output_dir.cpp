@@ -23,15 +23,6 @@ namespace {
 constexpr const char* kProgramVersion = "0.1";
 constexpr std::size_t kMaxMarkerBytes = 64 * 1024;
 
-std::string utcNow() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  ::gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 std::string readFd(int fd) {
   std::string text(kMaxMarkerBytes, '\0');
   const ssize_t n = ::pread(fd, text.data(), text.size(), 0);
@@ -113,6 +104,15 @@ std::vector<OutputDir*>& heldDirs() {
 }
 
 }  // namespace
+
+std::string utcNow() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
 
 struct OutputDir::Provisional {
   explicit Provisional(std::string path) : file(std::move(path)) {}

@@ -88,4 +88,7 @@ class OutputDir {
 // names each. Returns how many were removed.
 int removeTemporariesOfRun(const std::string& dir, long pid);
 
+// The time now as ISO 8601 UTC, "2026-12-07T10:33:14Z".
+std::string utcNow();
+
 }  // namespace hw

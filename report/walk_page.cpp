@@ -97,6 +97,23 @@ std::string whyNothingWarped(const json& s) {
   return "auto: drawing was predicted cheaper here" + hint;
 }
 
+// Where auto's choices came from (summary.auto_pin; "" when not auto).
+static std::string autoPinText(const json& pin) {
+  if (!pin.is_object()) return "";
+  const std::string state = text(pin, "state"), file = text(pin, "file");
+  std::string t;
+  if (state == "replayed")
+    t = "; chosen as a measured run of this walk pinned them (" + file +
+        "; --auto-pin measure chooses again)";
+  else if (state == "off")
+    t = "; chosen from this run's costs";
+  else
+    t = "; chosen from this run's costs" +
+        (state == "measured" && !file.empty() ? ", pinned to " + file : std::string());
+  if (const std::string note = text(pin, "note"); !note.empty()) t += " (" + note + ")";
+  return t;
+}
+
 WalkSummaryText walkSummaryText(const json& s) {
   WalkSummaryText t;
   const json& byMode = member(s, "frames_by_mode");
@@ -147,7 +164,8 @@ WalkSummaryText walkSummaryText(const json& s) {
   t.details.push_back("frames: " + std::to_string(frames) + " = " + std::to_string(warped) +
                       " warped + " + std::to_string(drawn) + " drawn as geometry + " +
                       std::to_string(keyframeFrames) +
-                      (keyframeFrames == 1 ? " keyframe frame" : " keyframe frames"));
+                      (keyframeFrames == 1 ? " keyframe frame" : " keyframe frames") +
+                      autoPinText(member(s, "auto_pin")));
 
   const json& schedule = member(s, "keyframe_frames");
   const int scheduled = schedule.is_array() ? static_cast<int>(schedule.size()) : -1;

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -73,6 +74,10 @@ class WalkLoop {
   void makeCache();
   Status startKeyframeWorker();
   Status warmUp();
+  void setUpPin();
+  std::string pinKey() const;
+  bool pinnedWarps(int k) const;
+  void writePin();
   Status calibrateRefresh();
   Status calibrateModes();
   Status calibrateWarp(int k0);
@@ -137,6 +142,14 @@ class WalkLoop {
   double frameWaitMs_ = 0;  // this frame's wait for keyframes not ready
   bool warmingUp_ = false;   // getSource called before the first frame
   double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
+  // Pinned choices (WalkOptions::autoPin): the file ("" = none read or
+  // written), the kinds replayed (empty: chosen in this run), how each frame
+  // was drawn, what became of the pin, and why one was not used or written.
+  std::string pinFile_;
+  std::vector<FrameKind> pinned_;
+  std::vector<FrameKind> kinds_;
+  const char* pinState_ = "off";
+  std::string pinNote_;
   bool builtThisFrame_ = false;
 
   // Frame budget and refresh.
@@ -182,6 +195,7 @@ Status WalkLoop::setUp() {
   renderer_ = &engine_->renderer();
   HW_TRY(setUpSchedule());
   makeCache();
+  setUpPin();
   // A keyframe that cannot fit the memory budget is refused before anything
   // of its size is drawn: the floor's keyframe is as large.
   const bool needsKeyframes = opt_.mode != FrameMode::Geometry && !schedule_.keyframes().empty();
@@ -222,6 +236,89 @@ void WalkLoop::makeCache() {
   if (opt_.keyframeSource) cache_->setSource(opt_.keyframeSource);
 }
 
+// The name of this walk's pin: a hash of what auto's choice depends on.
+// The scene is known by its label, counts and bounds and every 64th vertex
+// (hashing a million-triangle scene whole would cost more than its load);
+// an edit that keeps all of these keeps a pin that may choose less well,
+// never one that draws a wrong image.
+std::string WalkLoop::pinKey() const {
+  PinHasher h;
+  h.text("hybridwalk walk");
+  h.text(opt_.modePinContext);
+  h.text(label_);
+  h.text(scene_.name);
+  h.number(static_cast<std::int64_t>(scene_.meshes.size()));
+  for (const scenes::Mesh& m : scene_.meshes) {
+    h.number(static_cast<std::int64_t>(m.vertices.size()));
+    h.number(static_cast<std::int64_t>(m.indices.size()));
+    h.bytes(&m.boundsMin, sizeof m.boundsMin);
+    h.bytes(&m.boundsMax, sizeof m.boundsMax);
+    for (std::size_t v = 0; v < m.vertices.size(); v += 64)
+      h.bytes(&m.vertices[v].position, sizeof m.vertices[v].position);
+  }
+  for (const Camera& c : cams_) {
+    for (const glm::dvec3* v : {&c.eye, &c.right, &c.up, &c.forward}) h.bytes(v, sizeof *v);
+    h.number(c.fovYRadians);
+    h.number(c.nearPlane);
+    h.number(c.farPlane);
+    h.number(static_cast<std::int64_t>(c.width));
+    h.number(static_cast<std::int64_t>(c.height));
+  }
+  for (int k : schedule_.keyframes()) h.number(static_cast<std::int64_t>(k));
+  h.text(machineInfo(opt_.glRenderer, opt_.glVersion).dump());
+  return h.hex();
+}
+
+// FrameMode::Auto over the whole path: the pin of this walk, replayed when
+// there is one and WalkOptions::autoPin says to use it. A pin that cannot be
+// read or does not fit the schedule is not used (pinNote_ says why) and is
+// replaced by this run's choices.
+void WalkLoop::setUpPin() {
+  if (opt_.mode != FrameMode::Auto || opt_.autoPin == AutoPin::Off || opt_.modePinDir.empty() ||
+      !opt_.onlySegments.empty())
+    return;
+  pinFile_ = (std::filesystem::path(opt_.modePinDir) / ("walk-" + pinKey() + ".json")).string();
+  pinState_ = "measured";
+  if (opt_.autoPin != AutoPin::Use) return;
+  bool found = false;
+  auto kinds = readModePin(pinFile_, frames_, &found);
+  if (!kinds) {
+    pinNote_ = kinds.error().message;
+    return;
+  }
+  if (!found) return;
+  for (int i = 0; i < frames_; ++i) {
+    const FrameKind k = (*kinds)[static_cast<std::size_t>(i)];
+    const bool keyframe = schedule_.isKeyframe(i);
+    if ((k == FrameKind::Keyframe && !keyframe) || (k == FrameKind::Warp && keyframe)) {
+      pinNote_ = "mode pin " + pinFile_ + ": frame " + std::to_string(i) + " is " +
+                 (keyframe ? "a keyframe" : "an in-between frame") + " of the schedule, the pin has " +
+                 frameKindName(k);
+      return;
+    }
+  }
+  pinned_ = std::move(*kinds);
+  pinState_ = "replayed";
+}
+
+// A pinned segment (from keyframe k to the next) draws some frame from keyframes.
+bool WalkLoop::pinnedWarps(int k) const {
+  const int end = std::min(frames_, k + segmentLength(k));
+  for (int i = k; i < end; ++i)
+    if (pinned_[static_cast<std::size_t>(i)] != FrameKind::Geometry) return true;
+  return false;
+}
+
+// The choices of a measured walk become its pin; a pin that cannot be
+// written leaves the walk as it is (pinNote_ says why).
+void WalkLoop::writePin() {
+  if (pinFile_.empty() || !pinned_.empty()) return;
+  if (auto st = writeModePin(pinFile_, kinds_, label_); !st) {
+    pinNote_ = st.error().message;
+    pinState_ = "measured, not pinned";
+  }
+}
+
 Status WalkLoop::startKeyframeWorker() {
   asyncKf_ = opt_.asyncKeyframes && !opt_.keyframeSource;
   if (!asyncKf_) return {};
@@ -254,7 +351,12 @@ Status WalkLoop::startKeyframeWorker() {
 Status WalkLoop::warmUp() {
   Stopwatch warmupSw;
   warping_ = opt_.mode != FrameMode::Geometry;
-  if (opt_.mode == FrameMode::Auto) {
+  if (opt_.mode == FrameMode::Auto && !pinned_.empty()) {
+    // Replayed: the geometry cost still sets the hole pass's budget.
+    HW_TRY(calibrateModes());
+    warping_ = pinnedWarps(0);
+    decidedAt_ = 0;
+  } else if (opt_.mode == FrameMode::Auto) {
     HW_TRY(calibrateModes());
     warping_ = chooser_.warpNext(false, segmentLength(0));
     if (warping_ && frames_ > 1) {
@@ -395,6 +497,14 @@ int WalkLoop::segmentLength(int k) const {
 Status WalkLoop::chooseKind(int i, int k0, int k1, FrameKind* kind) {
   bool probe = false;
   chooseMs_ = 0;
+  if (!pinned_.empty()) {  // replayed: as the pin says
+    const bool warp = pinnedWarps(k0);
+    modeSwitches_ += i != decidedAt_ && warp != warping_;
+    warping_ = warp;
+    decidedAt_ = i;
+    *kind = pinned_[static_cast<std::size_t>(i)];
+    return {};
+  }
   if (opt_.mode == FrameMode::Auto) {
     // The geometry cost the choice compares against is this view's
     // (ModeChooserOptions::geometryByTriangles); counting is frame work.
@@ -600,7 +710,7 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
   // Warping the next segment predicted to pay: its keyframes are built ahead.
   const int next = schedule_.bracket(i).second;
   if (asyncKf_ && opt_.mode == FrameMode::Auto && next != i &&
-      chooser_.warpNext(false, segmentLength(next)))
+      (pinned_.empty() ? chooser_.warpNext(false, segmentLength(next)) : pinnedWarps(next)))
     HW_TRY(cache_->prefetch(next));
   endFrameWork(ms, FrameKind::Geometry);
   fj["is_keyframe"] = false;
@@ -963,6 +1073,7 @@ Status WalkLoop::frame(int i) {
   else
     HW_TRY(inBetweenFrame(i, k0, k1, fj, ms));
   ++kindCounts_[static_cast<int>(kind)];
+  kinds_.push_back(kind);
   fj["mode"] = frameKindName(kind);
   ms["keyframe_wait"] = frameWaitMs_;
   recorder_.series.frameMs.push_back(ms["frame"].get<double>());
@@ -1004,6 +1115,7 @@ Result<WalkResult> WalkLoop::run() {
     HW_TRY(frame(i));
     progress.update(i + 1);
   }
+  writePin();
   WalkResult result;
   HW_TRY(recorder_.finish(summary(), writing_ ? opt_.outDir + "/report.json" : std::string(),
                           &result.report));
@@ -1209,6 +1321,12 @@ void WalkLoop::summariseModes(json& s) const {
   s["segments_given_up"] = segmentsGivenUp_;
   s["warp_starts_deferred"] = warpStartsDeferred_;
   s["geometry_probes"] = geometryProbes_;
+  s["auto_pin"] = opt_.mode == FrameMode::Auto
+                      ? json{{"setting", autoPinName(opt_.autoPin)},
+                             {"state", pinState_},
+                             {"file", pinFile_.empty() ? json(nullptr) : json(pinFile_)},
+                             {"note", pinNote_.empty() ? json(nullptr) : json(pinNote_)}}
+                      : json(nullptr);
   s["mode_costs"] =
       opt_.mode == FrameMode::Auto
           ? json{{"geometry_ms", finiteOrNull(chooser_.geometryWindowMs())},

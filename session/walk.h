@@ -21,6 +21,7 @@
 #include "scenes/scene.h"
 #include "session/frame_mode.h"
 #include "session/in_between.h"
+#include "session/mode_pin.h"
 #include "warp/cpu_warper.h"
 #include "warp/warper.h"
 
@@ -38,6 +39,15 @@ struct WalkOptions {
   // Geometry frames render once: the frame is its own reference.
   FrameMode mode = FrameMode::Hybrid;
   ModeChooserOptions modeChooser;
+  // FrameMode::Auto: replay the choices a measured run of the same walk
+  // pinned, choose and pin them, or neither (session/mode_pin.h). Pins are
+  // kept in modePinDir ("" = none, the library's default; the program sets
+  // defaultModePinDir()). modePinContext: what else the choice depends on
+  // that the walk does not see (the program's options and scene spec), part
+  // of the pin's name.
+  AutoPin autoPin = AutoPin::Use;
+  std::string modePinDir;
+  std::string modePinContext;
   keyframe::LodOptions lod;                     // τ (z' units), criterion, parallax bound
   keyframe::MeshMethod mesh = keyframe::MeshMethod::Lod;  // or a baseline (sweep)
   int tileSize = 8;                             // pixels, MeshMethod::UniformTiles

@@ -52,6 +52,9 @@ const auto kPacings = enumNames<session::KeyframePacing>(
     {session::KeyframePacing::Time, session::KeyframePacing::Slices, session::KeyframePacing::Steps,
      session::KeyframePacing::None},
     session::keyframePacingName);
+const auto kAutoPins = enumNames<session::AutoPin>(
+    {session::AutoPin::Use, session::AutoPin::Measure, session::AutoPin::Off},
+    session::autoPinName);
 // Layers: the two names of InBetweenOptions::fusedLayers.
 const std::vector<std::pair<std::string, bool>> kLayers = {{"fused", true}, {"separate", false}};
 const auto kWarpers = enumNames<warp::WarperChoice>(
@@ -405,6 +408,14 @@ WalkRows frameBudgetRows(const std::string& what) {
 
 WalkRows walkRows() {
   WalkRows rows = modeRows();
+  rows.push_back(choiceRow<WalkOptions>(
+      "--auto-pin", +[](WalkOptions& o) -> session::AutoPin& { return o.autoPin; }, kAutoPins,
+      kEssentials,
+      "With --mode auto: use (draw each frame as the last measured run of the same walk did, "
+      "when there is one: same scene, path, options, machine and build; else choose and pin "
+      "the choices), measure (choose from this run's costs and pin them) or off (choose, pin "
+      "nothing). Pins are kept in $HYBRIDWALK_PINS, else ~/.cache/hybridwalk/mode-pins "
+      "(docs/mode-pins.md)"));
   rows.push_back(valueRow<WalkOptions, int>(
       "--strips", +[](WalkOptions& o) -> int& { return o.strips; }, kEssentials, "",
       "Number of reference|hybrid|diff×4|holes strips to write", CLI::Range(0, 100)));

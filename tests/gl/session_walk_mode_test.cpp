@@ -193,5 +193,115 @@ TEST_F(WalkModeTest, AutoStartsWarpingOnlyOnKeyframesBuiltAhead) {
   EXPECT_GE(starts + s["warp_starts_deferred"].get<int>(), 3);
 }
 
+std::string modesOf(const nlohmann::json& report) {
+  std::string m;
+  for (const auto& f : report["frames"]) m += f["mode"].get<std::string>()[0];
+  return m;
+}
+
+TEST_F(WalkModeTest, APinnedWalkDrawsEachFrameAsTheMeasuredRunDid) {
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 16, 5);
+  const std::string pins = tempDir("pins"), out1 = tempDir("pin1"), out2 = tempDir("pin2");
+  // Measured: forced to flip per segment (as above).
+  session::WalkOptions wo = options(session::FrameMode::Auto, out1);
+  wo.modePinDir = pins;
+  wo.modePinContext = "test";
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;
+  wo.modeChooser.leaveAbove = 0;
+  wo.modeChooser.giveUpAfter = 0;
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const auto& pa = a->report["summary"]["auto_pin"];
+  EXPECT_EQ(pa["state"], "measured");
+  EXPECT_EQ(pa["setting"], "use");
+  ASSERT_TRUE(pa["file"].is_string());
+  const std::string file = pa["file"];
+  EXPECT_EQ(std::filesystem::path(file).parent_path(), std::filesystem::path(pins));
+  EXPECT_EQ(modesOf(a->report), "kwwwwgggggkwwwwg");
+  bool found = false;
+  auto pinned = session::readModePin(file, 16, &found);
+  ASSERT_TRUE(pinned.ok()) << pinned.error().message;
+  EXPECT_TRUE(found);
+
+  // Replayed: thresholds that would draw every frame as geometry are not
+  // consulted; the frames are the measured run's, bit for bit.
+  wo.outDir = out2;
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 0;
+  auto b = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  EXPECT_EQ(b->report["summary"]["auto_pin"]["state"], "replayed");
+  EXPECT_EQ(b->report["summary"]["auto_pin"]["file"], file);
+  EXPECT_EQ(modesOf(b->report), "kwwwwgggggkwwwwg");
+  EXPECT_EQ(b->report["summary"]["keyframes"], 4);  // only the warped segments' keyframes
+  for (int i = 0; i < 16; ++i)
+    EXPECT_EQ(test::readBytes(frameFile(out1, i)), test::readBytes(frameFile(out2, i)))
+        << "frame " << i;
+
+  // Measure: chosen again (now all geometry) and pinned over the old pin.
+  wo.outDir = "";
+  wo.saveFrames = false;
+  wo.autoPin = session::AutoPin::Measure;
+  auto c = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_EQ(c->report["summary"]["auto_pin"]["state"], "measured");
+  EXPECT_EQ(modesOf(c->report), std::string(16, 'g'));
+  pinned = session::readModePin(file, 16, &found);
+  ASSERT_TRUE(pinned.ok()) << pinned.error().message;
+  EXPECT_EQ(*pinned, std::vector<session::FrameKind>(16, session::FrameKind::Geometry));
+
+  // Another context is another pin; hybrid and geometry walks pin nothing.
+  wo.autoPin = session::AutoPin::Use;
+  wo.modePinContext = "other";
+  auto d = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_NE(d->report["summary"]["auto_pin"]["file"], file);
+  EXPECT_EQ(d->report["summary"]["auto_pin"]["state"], "measured");
+  wo.mode = session::FrameMode::Hybrid;
+  auto e = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  EXPECT_TRUE(e->report["summary"]["auto_pin"].is_null());
+  int files = 0;
+  for ([[maybe_unused]] const auto& f : std::filesystem::directory_iterator(pins)) ++files;
+  EXPECT_EQ(files, 2);
+  for (const auto& dir : {pins, out1, out2}) std::filesystem::remove_all(dir);
+}
+
+TEST_F(WalkModeTest, APinThatDoesNotFitTheWalkIsChosenAgainAndReplaced) {
+  test::Indoor in = test::smallIndoor("indoor:20k", 64, 11, 5);
+  const std::string pins = tempDir("badpin");
+  session::WalkOptions wo = options(session::FrameMode::Auto, "");
+  wo.saveFrames = false;
+  wo.modePinDir = pins;
+  wo.modeChooser.enterBelow = 0;  // chosen: every frame as geometry
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const std::string file = a->report["summary"]["auto_pin"]["file"];
+  // Frame 1 is an in-between frame, not a keyframe.
+  ASSERT_TRUE(session::writeModePin(file,
+                                    {session::FrameKind::Keyframe, session::FrameKind::Keyframe,
+                                     session::FrameKind::Warp, session::FrameKind::Warp,
+                                     session::FrameKind::Warp, session::FrameKind::Keyframe,
+                                     session::FrameKind::Warp, session::FrameKind::Warp,
+                                     session::FrameKind::Warp, session::FrameKind::Warp,
+                                     session::FrameKind::Keyframe},
+                                    "x")
+                  .ok());
+  auto b = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  const auto& p = b->report["summary"]["auto_pin"];
+  EXPECT_EQ(p["state"], "measured");
+  ASSERT_TRUE(p["note"].is_string());
+  EXPECT_NE(p["note"].get<std::string>().find("frame 1 is an in-between frame of the schedule, "
+                                               "the pin has keyframe"),
+            std::string::npos)
+      << p["note"];
+  EXPECT_EQ(modesOf(b->report), std::string(11, 'g'));
+  bool found = false;
+  auto pinned = session::readModePin(file, 11, &found);
+  ASSERT_TRUE(pinned.ok()) << pinned.error().message;
+  EXPECT_EQ(*pinned, std::vector<session::FrameKind>(11, session::FrameKind::Geometry));
+  std::filesystem::remove_all(pins);
+}
+
 }  // namespace
 }  // namespace hw
