@@ -102,9 +102,12 @@ static std::string autoPinText(const json& pin) {
   if (!pin.is_object()) return "";
   const std::string state = text(pin, "state"), file = text(pin, "file");
   std::string t;
-  if (state == "replayed")
+  if (state == "replayed") {
     t = "; chosen as a measured run of this walk pinned them (" + file +
         "; --auto-pin measure chooses again)";
+    if (const int dev = count(pin, "deviations"); dev > 0)
+      t += ", " + std::to_string(dev) + " drawn as geometry while their keyframes were building";
+  }
   else if (state == "off")
     t = "; chosen from this run's costs";
   else

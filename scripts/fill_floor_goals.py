@@ -1,8 +1,12 @@
 #!/usr/bin/env python3
 """Where the in-between frame stands against its fill-floor goals.
 
-Runs each walk twice at the defaults (idle machine expected), then the
-viewer's --play on indoor:1M at the defaults and as geometry, and writes
+Runs each walk twice at the defaults (idle machine expected) with a fresh
+folder of mode pins (OUT/pins): the first run chooses and pins its modes, the
+second replays them, as a user's first and second run of a command would;
+then a third time with --auto-pin off, whose modes against the first run's
+say how far two measured runs agree. Then the viewer's --play on indoor:1M
+at the defaults and as geometry. Writes
 OUT/goals.json (every measured value, each goal with its target and whether
 it is met) and OUT/goals.png (each goal's value over its target).
 
@@ -16,6 +20,7 @@ import csv
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -40,9 +45,9 @@ def p95(v):
     return v[min(len(v) - 1, int(round(0.95 * (len(v) - 1))))]
 
 
-def run(cmd, log):
+def run(cmd, log, env=None):
     with open(log, "w") as f:
-        rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT)
+        rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT, env=env)
     if rc != 0:
         sys.exit("%s failed (exit %d); see %s" % (" ".join(cmd), rc, log))
 
@@ -58,6 +63,7 @@ def walk_summary(report):
     in_between = s.get("in_between_frames") or 0
     return {
         "modes": [f.get("mode") for f in frames],
+        "auto_pin": (s.get("auto_pin") or {}).get("state"),
         "frames_by_mode": by_mode,
         "in_between_frames": in_between,
         "warped_share_of_in_between": (by_mode.get("warp", 0) / in_between) if in_between else None,
@@ -111,16 +117,21 @@ def main():
              os.path.join(a.out, "goals.png"))
         return
     os.makedirs(a.out, exist_ok=True)
+    pins = os.path.join(a.out, "pins")
+    shutil.rmtree(pins, ignore_errors=True)
+    env = dict(os.environ, HYBRIDWALK_PINS=pins)
     walks = {}
     for name, args in WALKS:
         runs = []
-        for k in (1, 2):
+        for k, extra in ((1, []), (2, []), (3, ["--auto-pin", "off"])):
             d = os.path.join(a.out, "%s-%d" % (name.replace(":", "_"), k))
-            print("walk %s, run %d" % (name, k), flush=True)
-            run([a.bin, "walk", *args, "--out", d], d + ".log")
+            print("walk %s, run %d %s" % (name, k, " ".join(extra)), flush=True)
+            run([a.bin, "walk", *args, *extra, "--out", d], d + ".log", env)
             runs.append(walk_summary(os.path.join(d, "report.json")))
-        walks[name] = {"runs": [{k: v for k, v in r.items() if k != "modes"} for r in runs],
-                       "same_mode_share": agreement(runs[0]["modes"], runs[1]["modes"])}
+        walks[name] = {"runs": [{k: v for k, v in r.items() if k != "modes"} for r in runs[:2]],
+                       "same_mode_share": agreement(runs[0]["modes"], runs[1]["modes"]),
+                       "auto_pin": [r["auto_pin"] for r in runs],
+                       "same_mode_share_measured": agreement(runs[0]["modes"], runs[2]["modes"])}
     viewer = None
     if not a.no_viewer:
         print("viewer, default and geometry", flush=True)
@@ -146,6 +157,9 @@ def main():
     for name in walks:
         goals.append(goal("%s same mode in two runs" % name, walks[name]["same_mode_share"], 0.90,
                           "above"))
+    for name in walks:  # not a goal: how far two runs that both choose agree
+        print("%-52s %8.3f  (runs 1 and 3, --auto-pin off)" % (
+            "%s same mode, two measured runs" % name, walks[name]["same_mode_share_measured"]))
     if viewer:
         goals.append(goal("viewer --play indoor:1M p95 / geometry median",
                           viewer["auto"]["p95"] / viewer["geometry"]["median"], 0.25))

@@ -147,6 +147,8 @@ class WalkLoop {
   // was drawn, what became of the pin, and why one was not used or written.
   std::string pinFile_;
   std::vector<FrameKind> pinned_;
+  int pinDeviations_ = 0;  // replayed warp frames drawn as geometry: their keyframes were building
+  std::vector<int> nextPinnedWarp_;  // per frame: the next keyframe whose segment the pin warps (-1: none)
   std::vector<FrameKind> kinds_;
   const char* pinState_ = "off";
   std::string pinNote_;
@@ -299,6 +301,11 @@ void WalkLoop::setUpPin() {
   }
   pinned_ = std::move(*kinds);
   pinState_ = "replayed";
+  nextPinnedWarp_.assign(static_cast<std::size_t>(frames_), -1);
+  for (int i = frames_ - 2, next = -1; i >= 0; --i) {
+    if (schedule_.isKeyframe(i + 1) && pinnedWarps(i + 1)) next = i + 1;
+    nextPinnedWarp_[static_cast<std::size_t>(i)] = next;
+  }
 }
 
 // A pinned segment (from keyframe k to the next) draws some frame from keyframes.
@@ -503,6 +510,14 @@ Status WalkLoop::chooseKind(int i, int k0, int k1, FrameKind* kind) {
     warping_ = warp;
     decidedAt_ = i;
     *kind = pinned_[static_cast<std::size_t>(i)];
+    // A warp start waits for no build, as in the measured run (whose starts
+    // found their keyframes built): while they are building, the frame is
+    // drawn as geometry and the next one tries again.
+    if (*kind != FrameKind::Geometry && asyncKf_ && !kinds_.empty() &&
+        kinds_.back() == FrameKind::Geometry && !segmentKeyframesReady(k0)) {
+      *kind = FrameKind::Geometry;
+      ++pinDeviations_;
+    }
     return {};
   }
   if (opt_.mode == FrameMode::Auto) {
@@ -708,9 +723,14 @@ Status WalkLoop::geometryFrame(int i, json& fj, json& ms) {
   }
   recordFreshAge(fj, ms);
   // Warping the next segment predicted to pay: its keyframes are built ahead.
-  const int next = schedule_.bracket(i).second;
-  if (asyncKf_ && opt_.mode == FrameMode::Auto && next != i &&
-      (pinned_.empty() ? chooser_.warpNext(false, segmentLength(next)) : pinnedWarps(next)))
+  // Replayed, the pin says which segment warps next, however far ahead: its
+  // keyframes are asked for from here, so that they are built when it
+  // starts (the measured run started warping only on keyframes found built).
+  const int next = pinned_.empty() ? schedule_.bracket(i).second
+                                   : nextPinnedWarp_[static_cast<std::size_t>(i)];
+  // (A replayed segment that warps later in it asked for its own in frame().)
+  if (asyncKf_ && opt_.mode == FrameMode::Auto && next > i &&
+      (pinned_.empty() ? chooser_.warpNext(false, segmentLength(next)) : !warping_))
     HW_TRY(cache_->prefetch(next));
   endFrameWork(ms, FrameKind::Geometry);
   fj["is_keyframe"] = false;
@@ -1325,6 +1345,7 @@ void WalkLoop::summariseModes(json& s) const {
                       ? json{{"setting", autoPinName(opt_.autoPin)},
                              {"state", pinState_},
                              {"file", pinFile_.empty() ? json(nullptr) : json(pinFile_)},
+                             {"deviations", pinDeviations_},
                              {"note", pinNote_.empty() ? json(nullptr) : json(pinNote_)}}
                       : json(nullptr);
   s["mode_costs"] =

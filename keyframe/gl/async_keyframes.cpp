@@ -81,8 +81,11 @@ void AsyncKeyframes::pace() {
         debtMs_ = std::max(0.0, debtMs_ - budget * static_cast<double>(ticks_ - paidTicks_));
         paidTicks_ = ticks_;
       }
-      if (stop_ || waiting_ > 0) {
-        debtMs_ = 0;  // unpaced while waited for: nothing to pay back
+      // Unpaced while waited for, and before the first build is measured
+      // (paced by the 0.5 ms floor, a first build asked for well ahead took
+      // more frames to finish than the walk had before its need).
+      if (stop_ || waiting_ > 0 || lastBuildMs_ <= 0) {
+        debtMs_ = 0;  // nothing to pay back
         return true;
       }
       return debtMs_ < budget;
