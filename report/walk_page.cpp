@@ -107,12 +107,12 @@ static std::string autoPinText(const json& pin) {
         "; --auto-pin measure chooses again)";
     if (const int dev = count(pin, "deviations"); dev > 0)
       t += ", " + std::to_string(dev) + " drawn as geometry while their keyframes were building";
-  }
-  else if (state == "off")
+  } else if (state == "off") {
     t = "; chosen from this run's costs";
-  else
+  } else {
     t = "; chosen from this run's costs" +
         (state == "measured" && !file.empty() ? ", pinned to " + file : std::string());
+  }
   if (const std::string note = text(pin, "note"); !note.empty()) t += " (" + note + ")";
   return t;
 }
