@@ -142,7 +142,9 @@ Status FrameEngine::renderHoles(const Camera& cam, const HoleBudget* budget, Hol
                                 double* budgetMsOut) {
   double budgetMs = std::nan("");
   std::function<int(int)> maxRects;
-  if (budget && budget->fraction > 0 && budget->geometryMs > 0) {
+  if (budget && budget->rects >= 0) {
+    maxRects = [n = budget->rects](int wanted) { return std::min(n, wanted); };
+  } else if (budget && budget->fraction > 0 && budget->geometryMs > 0) {
     budgetMs = std::min(budget->fraction * budget->geometryMs,
                         budget->geometryMs - budget->frameMsSoFar);
     maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };

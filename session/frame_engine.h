@@ -37,6 +37,9 @@ struct HoleBudget {
   double fraction = 0;      // of a geometry frame; <= 0: no cap
   double geometryMs = 0;    // a geometry frame's cost at this view (<= 0: unknown, no cap)
   double frameMsSoFar = 0;  // the frame's work before the hole pass
+  // >= 0: draw this many rectangles (at most those found) whatever the cost,
+  // as a pinned run did (session/mode_pin.h); the fields above are then unused.
+  int rects = -1;
 };
 
 // The keyframe schedule of a path of `frames` frames: every `keyframeEvery`

@@ -67,10 +67,10 @@ char frameKindLetter(FrameKind k) {
   return '?';
 }
 
-Result<std::vector<FrameKind>> readModePin(const std::string& file, int frames, bool* found) {
+Result<ModePin> readModePin(const std::string& file, int frames, bool* found) {
   *found = false;
   std::error_code ec;
-  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) return std::vector<FrameKind>{};
+  if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) return ModePin{};
   auto text = readFile(file, kMaxPinBytes);
   if (!text) return text.error();
   auto j = parseJsonStrict(*text, file);
@@ -93,29 +93,43 @@ Result<std::vector<FrameKind>> readModePin(const std::string& file, int frames, 
   if (m.size() != static_cast<std::size_t>(frames))
     return bad("\"modes\": expected " + std::to_string(frames) + " letters, got " +
                std::to_string(m.size()));
-  std::vector<FrameKind> kinds(m.size());
+  ModePin pin;
+  pin.kinds.resize(m.size());
   for (std::size_t i = 0; i < m.size(); ++i) {
-    if (m[i] == 'g') kinds[i] = FrameKind::Geometry;
-    else if (m[i] == 'w') kinds[i] = FrameKind::Warp;
-    else if (m[i] == 'k') kinds[i] = FrameKind::Keyframe;
+    if (m[i] == 'g') pin.kinds[i] = FrameKind::Geometry;
+    else if (m[i] == 'w') pin.kinds[i] = FrameKind::Warp;
+    else if (m[i] == 'k') pin.kinds[i] = FrameKind::Keyframe;
     else
       return bad("\"modes\": frame " + std::to_string(i) + ": expected g, w or k, got '" +
                  std::string(1, m[i]) + "'");
   }
+  if (o.contains("hole_rects")) {
+    const auto& h = o["hole_rects"];
+    if (!h.is_array() || h.size() != m.size())
+      return bad("\"hole_rects\": expected an array of " + std::to_string(frames) +
+                 " integers, got " + (h.is_array() ? std::to_string(h.size()) + " entries" : h.dump()));
+    pin.holeRects.resize(h.size());
+    for (std::size_t i = 0; i < h.size(); ++i) {
+      if (!h[i].is_number_integer() || h[i].get<long long>() < -1 || h[i].get<long long>() > 1000000)
+        return bad("\"hole_rects\": frame " + std::to_string(i) +
+                   ": expected an integer from -1 up, got " + h[i].dump());
+      pin.holeRects[i] = h[i].get<int>();
+    }
+  }
   *found = true;
-  return kinds;
+  return pin;
 }
 
-Status writeModePin(const std::string& file, const std::vector<FrameKind>& kinds,
-                    const std::string& label) {
+Status writeModePin(const std::string& file, const ModePin& pin, const std::string& label) {
   const std::filesystem::path dir = std::filesystem::path(file).parent_path();
   if (!dir.empty()) HW_TRY(ensureWritableDir(dir.string()));
   std::string modes;
-  modes.reserve(kinds.size());
-  for (FrameKind k : kinds) modes += frameKindLetter(k);
-  const nlohmann::json o = {{"format", kFormat},       {"version", kVersion},
-                            {"scene", label},          {"measured", utcNow()},
-                            {"frames", kinds.size()},  {"modes", modes}};
+  modes.reserve(pin.kinds.size());
+  for (FrameKind k : pin.kinds) modes += frameKindLetter(k);
+  nlohmann::json o = {{"format", kFormat},           {"version", kVersion},
+                      {"scene", label},              {"measured", utcNow()},
+                      {"frames", pin.kinds.size()},  {"modes", modes}};
+  if (!pin.holeRects.empty()) o["hole_rects"] = pin.holeRects;
   return writeFileAtomic(file, o.dump(1) + "\n");
 }
 

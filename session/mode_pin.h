@@ -46,14 +46,23 @@ std::string defaultModePinDir();
 // One letter per frame kind in a pin: g(eometry), w(arp), k(eyframe).
 char frameKindLetter(FrameKind k);
 
+// What a pin holds: how each frame was drawn and how many rectangles each
+// frame's hole pass drew (its budget follows the measured geometry cost, so
+// a replay that chose again would draw other pixels); -1 where none ran.
+// holeRects empty: not pinned (a pin written before it was kept).
+struct ModePin {
+  std::vector<FrameKind> kinds;
+  std::vector<int> holeRects;
+};
+
 // Reads the pin `file` for a walk of `frames` frames. *found = false (and no
 // error) when there is no such file. Errors (what, where, expected vs got):
 // unreadable, not a pin, another format version or frame count, a letter
-// other than g, w, k.
-Result<std::vector<FrameKind>> readModePin(const std::string& file, int frames, bool* found);
-// Writes the pin atomically (creating its folder): `kinds`, one per frame,
-// with `label` (the scene) and the time it was measured.
-Status writeModePin(const std::string& file, const std::vector<FrameKind>& kinds,
-                    const std::string& label);
+// other than g, w, k, hole rectangles that are not one integer >= -1 per frame.
+Result<ModePin> readModePin(const std::string& file, int frames, bool* found);
+// Writes the pin atomically (creating its folder), one entry per frame in
+// each list (holeRects empty or as long as kinds), with `label` (the scene)
+// and the time it was measured.
+Status writeModePin(const std::string& file, const ModePin& pin, const std::string& label);
 
 }  // namespace hw::session

@@ -147,6 +147,8 @@ class WalkLoop {
   // was drawn, what became of the pin, and why one was not used or written.
   std::string pinFile_;
   std::vector<FrameKind> pinned_;
+  std::vector<int> pinnedHoleRects_;  // per frame (-1: none ran); empty: not pinned
+  std::vector<int> holeRects_;        // per frame walked: rectangles its hole pass drew (-1: none)
   int pinDeviations_ = 0;  // replayed warp frames drawn as geometry: their keyframes were building
   std::vector<int> nextPinnedWarp_;  // per frame: the next keyframe whose segment the pin warps (-1: none)
   std::vector<FrameKind> kinds_;
@@ -283,14 +285,14 @@ void WalkLoop::setUpPin() {
   pinState_ = "measured";
   if (opt_.autoPin != AutoPin::Use) return;
   bool found = false;
-  auto kinds = readModePin(pinFile_, frames_, &found);
-  if (!kinds) {
-    pinNote_ = kinds.error().message;
+  auto pin = readModePin(pinFile_, frames_, &found);
+  if (!pin) {
+    pinNote_ = pin.error().message;
     return;
   }
   if (!found) return;
   for (int i = 0; i < frames_; ++i) {
-    const FrameKind k = (*kinds)[static_cast<std::size_t>(i)];
+    const FrameKind k = pin->kinds[static_cast<std::size_t>(i)];
     const bool keyframe = schedule_.isKeyframe(i);
     if ((k == FrameKind::Keyframe && !keyframe) || (k == FrameKind::Warp && keyframe)) {
       pinNote_ = "mode pin " + pinFile_ + ": frame " + std::to_string(i) + " is " +
@@ -299,7 +301,8 @@ void WalkLoop::setUpPin() {
       return;
     }
   }
-  pinned_ = std::move(*kinds);
+  pinned_ = std::move(pin->kinds);
+  pinnedHoleRects_ = std::move(pin->holeRects);
   pinState_ = "replayed";
   nextPinnedWarp_.assign(static_cast<std::size_t>(frames_), -1);
   for (int i = frames_ - 2, next = -1; i >= 0; --i) {
@@ -320,7 +323,7 @@ bool WalkLoop::pinnedWarps(int k) const {
 // written leaves the walk as it is (pinNote_ says why).
 void WalkLoop::writePin() {
   if (pinFile_.empty() || !pinned_.empty()) return;
-  if (auto st = writeModePin(pinFile_, kinds_, label_); !st) {
+  if (auto st = writeModePin(pinFile_, ModePin{kinds_, holeRects_}, label_); !st) {
     pinNote_ = st.error().message;
     pinState_ = "measured, not pinned";
   }
@@ -846,12 +849,18 @@ Status WalkLoop::renderHoles(const Camera& cam, json* fj, json* ms, long long* r
     budget.fraction = opt_.renderHolesBudget;
     budget.geometryMs = predicted > 0 ? predicted : currentRefMs_;
     budget.frameMsSoFar = frameSw_.ms();
+    // Replayed: as many rectangles as the pinned run drew (its budget
+    // followed its own timings), so that the frame is the pinned run's.
+    const auto f = static_cast<std::size_t>(currentFrame_);
+    if (fj && f < pinnedHoleRects_.size() && pinnedHoleRects_[f] >= 0)
+      budget.rects = pinnedHoleRects_[f];
   }
   HolePassResult hr;
   double budgetMs = std::nan("");
   HW_TRY(engine_->renderHoles(cam, &budget, &hr, &budgetMs));
   *renderedHoles = hr.holes;
   if (!fj) return {};
+  if (!holeRects_.empty()) holeRects_.back() = hr.drawn;
   (*ms)["render_holes"] = sw.ms();
   (*fj)["hole_rects"] = hr.drawn;
   (*fj)["hole_rects_over_budget"] = hr.wanted - hr.drawn;
@@ -1054,6 +1063,7 @@ Status WalkLoop::frame(int i) {
   const auto [k0, k1] = schedule_.bracket(i);
   FrameKind kind = FrameKind::Geometry;
   HW_TRY(chooseKind(i, k0, k1, &kind));
+  holeRects_.push_back(-1);
   json ms = json::object();
   currentRefMs_ = std::nan("");
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own

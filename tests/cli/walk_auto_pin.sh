@@ -32,8 +32,19 @@ check "second run replayed" test "$(summary second state)" = replayed
 check "same modes frame by frame" test "$(modes first)" = "$(modes second)"
 check "stdout says the choices were replayed" grep -q "chosen as a measured run of this walk pinned them" "$tmp/second.stdout"
 
+# With the frames saved (an output option: the same pin) and keyframes built
+# in the frame: the replay's frames are the measured run's, byte for byte.
+walk saved1 --save-frames --sync-keyframes
+walk saved2 --save-frames --sync-keyframes
+check "saved walk replayed" test "$(summary saved2 state)" = replayed
+same=1
+for f in "$tmp"/saved1/frames/*.png; do
+  cmp -s "$f" "$tmp/saved2/frames/$(basename "$f")" || { echo "  differs: $(basename "$f")"; same=0; }
+done
+check "replayed frames identical to the measured run's" test $same -eq 1
+
 walk other --tau-px 0.25
-check "another option: measured, another pin" test "$(ls "$tmp/pins" | wc -l)" -eq 2
+check "another option: measured, another pin" test "$(ls "$tmp/pins" | wc -l)" -eq 3
 
 rm -rf "$tmp/pins"
 walk off --auto-pin off

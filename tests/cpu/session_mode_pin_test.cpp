@@ -39,11 +39,18 @@ TEST(ModePin, WrittenPinsReadBackAndMissingOnesAreNotErrors) {
   auto none = readModePin(file, 5, &found);
   ASSERT_TRUE(none.ok()) << none.error().message;
   EXPECT_FALSE(found);
-  ASSERT_TRUE(writeModePin(file, kinds, "indoor").ok());
+  ASSERT_TRUE(writeModePin(file, ModePin{kinds, {-1, 3, 0, -1, -1}}, "indoor").ok());
   auto back = readModePin(file, 5, &found);
   ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_TRUE(found);
-  EXPECT_EQ(*back, kinds);
+  EXPECT_EQ(back->kinds, kinds);
+  EXPECT_EQ(back->holeRects, (std::vector<int>{-1, 3, 0, -1, -1}));
+  // Without hole rectangles (modes only): read back without them.
+  ASSERT_TRUE(writeModePin(file, ModePin{kinds, {}}, "indoor").ok());
+  back = readModePin(file, 5, &found);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->kinds, kinds);
+  EXPECT_TRUE(back->holeRects.empty());
   // Another walk length is another walk.
   auto other = readModePin(file, 6, &found);
   ASSERT_FALSE(other.ok());
@@ -70,6 +77,12 @@ TEST(ModePin, MalformedPinsAreErrorsNamingTheFileAndWhatWasExpected) {
        "frame 1: expected g, w or k, got 'x'"},
       {R"({"format":"hybridwalk mode pin","version":1,"frames":"3","modes":"kwk"})",
        "expected \"frames\": 3, got \"3\""},
+      {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,2]})",
+       "\"hole_rects\": expected an array of 3 integers, got 2 entries"},
+      {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,-2,-1]})",
+       "\"hole_rects\": frame 1: expected an integer from -1 up, got -2"},
+      {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,1.5,-1]})",
+       "frame 1: expected an integer from -1 up, got 1.5"},
   };
   for (const Case& c : cases) {
     const std::string file = dir + "/pin.json";
@@ -88,7 +101,7 @@ TEST(ModePin, MalformedPinsAreErrorsNamingTheFileAndWhatWasExpected) {
   EXPECT_FALSE(r.ok());
   // A folder that cannot be made: an error, nothing written.
   writeText(dir + "/file", "x");
-  EXPECT_FALSE(writeModePin(dir + "/file/pin.json", {FrameKind::Geometry}, "x").ok());
+  EXPECT_FALSE(writeModePin(dir + "/file/pin.json", ModePin{{FrameKind::Geometry}, {}}, "x").ok());
   fs::remove_all(dir);
 }
 

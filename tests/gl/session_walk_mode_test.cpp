@@ -222,6 +222,7 @@ TEST_F(WalkModeTest, APinnedWalkDrawsEachFrameAsTheMeasuredRunDid) {
   auto pinned = session::readModePin(file, 16, &found);
   ASSERT_TRUE(pinned.ok()) << pinned.error().message;
   EXPECT_TRUE(found);
+  EXPECT_EQ(pinned->holeRects.size(), 16u);
 
   // Replayed: thresholds that would draw every frame as geometry are not
   // consulted; the frames are the measured run's, bit for bit.
@@ -247,7 +248,8 @@ TEST_F(WalkModeTest, APinnedWalkDrawsEachFrameAsTheMeasuredRunDid) {
   EXPECT_EQ(modesOf(c->report), std::string(16, 'g'));
   pinned = session::readModePin(file, 16, &found);
   ASSERT_TRUE(pinned.ok()) << pinned.error().message;
-  EXPECT_EQ(*pinned, std::vector<session::FrameKind>(16, session::FrameKind::Geometry));
+  EXPECT_EQ(pinned->kinds, std::vector<session::FrameKind>(16, session::FrameKind::Geometry));
+  EXPECT_EQ(pinned->holeRects, std::vector<int>(16, -1));  // no frame ran a hole pass
 
   // Another context is another pin; hybrid and geometry walks pin nothing.
   wo.autoPin = session::AutoPin::Use;
@@ -277,13 +279,12 @@ TEST_F(WalkModeTest, APinThatDoesNotFitTheWalkIsChosenAgainAndReplaced) {
   ASSERT_TRUE(a.ok()) << a.error().message;
   const std::string file = a->report["summary"]["auto_pin"]["file"];
   // Frame 1 is an in-between frame, not a keyframe.
+  using K = session::FrameKind;
   ASSERT_TRUE(session::writeModePin(file,
-                                    {session::FrameKind::Keyframe, session::FrameKind::Keyframe,
-                                     session::FrameKind::Warp, session::FrameKind::Warp,
-                                     session::FrameKind::Warp, session::FrameKind::Keyframe,
-                                     session::FrameKind::Warp, session::FrameKind::Warp,
-                                     session::FrameKind::Warp, session::FrameKind::Warp,
-                                     session::FrameKind::Keyframe},
+                                    session::ModePin{{K::Keyframe, K::Keyframe, K::Warp, K::Warp,
+                                                      K::Warp, K::Keyframe, K::Warp, K::Warp,
+                                                      K::Warp, K::Warp, K::Keyframe},
+                                                     {}},
                                     "x")
                   .ok());
   auto b = session::runWalk(in.scene, "indoor:20k", in.path, wo);
@@ -299,8 +300,49 @@ TEST_F(WalkModeTest, APinThatDoesNotFitTheWalkIsChosenAgainAndReplaced) {
   bool found = false;
   auto pinned = session::readModePin(file, 11, &found);
   ASSERT_TRUE(pinned.ok()) << pinned.error().message;
-  EXPECT_EQ(*pinned, std::vector<session::FrameKind>(11, session::FrameKind::Geometry));
+  EXPECT_EQ(pinned->kinds, std::vector<session::FrameKind>(11, session::FrameKind::Geometry));
   std::filesystem::remove_all(pins);
+}
+
+TEST_F(WalkModeTest, APinnedWalkDrawsTheHoleRectanglesTheMeasuredRunDid) {
+  // The hole pass's budget follows the run's own timings: measured with a
+  // budget that admits one rectangle a frame, replayed with none (every
+  // rectangle would be drawn). The replay draws what the pin says, so its
+  // frames are the measured run's, bit for bit.
+  test::Indoor in = test::smallIndoor("indoor:20k", 96, 16, 5);
+  const std::string pins = tempDir("holepins"), out1 = tempDir("holes1"), out2 = tempDir("holes2");
+  session::WalkOptions wo = options(session::FrameMode::Auto, out1);
+  wo.modePinDir = pins;
+  wo.modeChooser.enterBelow = wo.modeChooser.tailEnterBelow = 1e30;  // warp every segment
+  wo.modeChooser.leaveAbove = wo.modeChooser.tailLeaveAbove = 1e30;
+  wo.modeChooser.giveUpAfter = 0;
+  wo.renderHoles = true;
+  wo.renderHolesBudget = 1e-9;
+  auto a = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_EQ(a->report["summary"]["auto_pin"]["state"], "measured");
+  wo.outDir = out2;
+  wo.renderHolesBudget = 0;
+  auto b = session::runWalk(in.scene, "indoor:20k", in.path, wo);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  ASSERT_EQ(b->report["summary"]["auto_pin"]["state"], "replayed");
+  int warped = 0, heldBack = 0;
+  for (int i = 0; i < 16; ++i) {
+    const auto& fa = a->report["frames"][i];
+    const auto& fb = b->report["frames"][i];
+    ASSERT_EQ(fa["mode"], fb["mode"]) << "frame " << i;
+    if (fa["mode"] == "warp") {
+      ++warped;
+      EXPECT_EQ(fa["hole_rects"], fb["hole_rects"]) << "frame " << i;
+      heldBack += fb["hole_rects_over_budget"].get<int>();
+    }
+    EXPECT_EQ(test::readBytes(frameFile(out1, i)), test::readBytes(frameFile(out2, i)))
+        << "frame " << i;
+  }
+  EXPECT_GT(warped, 8);
+  // Without the pin the replay would have drawn these rectangles too.
+  EXPECT_GT(heldBack, 0);
+  for (const auto& dir : {pins, out1, out2}) std::filesystem::remove_all(dir);
 }
 
 }  // namespace
