@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Summarises run.sh's walks: per scene, the share of frames drawn the same way
 (geometry, or from keyframes) in runs 1 and 2 (pinned: the second replays the
-first) and in runs 1 and 3 (both measured), each run's frames by mode, frame /
+first) and in runs 1 and 3 (both measured), the frames whose PSNR differs
+between runs 1 and 2, each run's frames by mode, frame /
 geometry (median, p95), in-between PSNR median and keyframe stalls.
 Writes results.csv, results.json and agreement.png beside this script.
 Usage: /usr/bin/python3 summarise.py OUT
@@ -23,6 +24,7 @@ def load(out, scene, run):
     fo = s.get("frame_over_reference") or {}
     return {
         "modes": ["g" if f["mode"] == "geometry" else "w" for f in r["frames"]],
+        "frame_psnr": [f.get("psnr") for f in r["frames"]],
         "pin": (s.get("auto_pin") or {}).get("state"),
         "deviations": (s.get("auto_pin") or {}).get("deviations"),
         "by_mode": s["frames_by_mode"],
@@ -48,7 +50,11 @@ def main():
         machine = machine or runs[0]["machine"]
         row = {"scene": sc, "frames": len(runs[0]["modes"]),
                "same_mode_pinned": same(runs[0]["modes"], runs[1]["modes"]),
-               "same_mode_measured": same(runs[0]["modes"], runs[2]["modes"])}
+               "same_mode_measured": same(runs[0]["modes"], runs[2]["modes"]),
+               # frames whose PSNR differs between runs 1 and 2 (the same
+               # image at the same camera gives the same PSNR)
+               "frames_psnr_differs_pinned": sum(a != b for a, b in zip(runs[0]["frame_psnr"],
+                                                                        runs[1]["frame_psnr"]))}
         for k, r in enumerate(runs, 1):
             row["run%d_pin" % k] = r["pin"]
             row["run%d_drawn_from_keyframes" % k] = r["by_mode"]["warp"] + r["by_mode"]["keyframe"]
@@ -65,6 +71,7 @@ def main():
     json.dump({"machine": machine, "scenes": rows}, open(os.path.join(here, "results.json"), "w"),
               indent=1)
     for r in rows:
+        print("%-32s psnr differs on %d frames" % (r["scene"], r["frames_psnr_differs_pinned"]))
         print("%-32s pinned %.3f  measured %.3f  f/g median %s %s %s" % (
             r["scene"], r["same_mode_pinned"], r["same_mode_measured"],
             r["run1_frame_over_geometry_median"], r["run2_frame_over_geometry_median"],
