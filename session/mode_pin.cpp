@@ -112,7 +112,7 @@ Result<ModePin> readModePin(const std::string& file, int frames, bool* found) {
     for (std::size_t i = 0; i < h.size(); ++i) {
       if (!h[i].is_number_integer() || h[i].get<long long>() < -1 || h[i].get<long long>() > 1000000)
         return bad("\"hole_rects\": frame " + std::to_string(i) +
-                   ": expected an integer from -1 up, got " + h[i].dump());
+                   ": expected an integer from -1 to 1000000, got " + h[i].dump());
       pin.holeRects[i] = h[i].get<int>();
     }
   }

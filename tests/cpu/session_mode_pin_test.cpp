@@ -80,9 +80,9 @@ TEST(ModePin, MalformedPinsAreErrorsNamingTheFileAndWhatWasExpected) {
       {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,2]})",
        "\"hole_rects\": expected an array of 3 integers, got 2 entries"},
       {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,-2,-1]})",
-       "\"hole_rects\": frame 1: expected an integer from -1 up, got -2"},
+       "\"hole_rects\": frame 1: expected an integer from -1 to 1000000, got -2"},
       {R"({"format":"hybridwalk mode pin","version":1,"frames":3,"modes":"kwk","hole_rects":[-1,1.5,-1]})",
-       "frame 1: expected an integer from -1 up, got 1.5"},
+       "frame 1: expected an integer from -1 to 1000000, got 1.5"},
   };
   for (const Case& c : cases) {
     const std::string file = dir + "/pin.json";
