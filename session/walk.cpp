@@ -143,15 +143,16 @@ class WalkLoop {
   bool warmingUp_ = false;   // getSource called before the first frame
   double chooseMs_ = 0;     // this frame's share of the mode choice, done before frameSw_ starts
   // Pinned choices (WalkOptions::autoPin): the file ("" = none read or
-  // written), the kinds replayed (empty: chosen in this run), how each frame
-  // was drawn, what became of the pin, and why one was not used or written.
+  // written), the kinds replayed (empty: chosen in this run), how the last
+  // frame was drawn, what became of the pin, and why one was not used or
+  // written. The kinds a measured run pins are the recorder's.
   std::string pinFile_;
   std::vector<FrameKind> pinned_;
   std::vector<int> pinnedHoleRects_;  // per frame (-1: none ran); empty: not pinned
-  std::vector<int> holeRects_;        // per frame walked: rectangles its hole pass drew (-1: none)
+  std::vector<int> holeRects_;  // a measured run to pin, per frame: rectangles its hole pass drew (-1: none)
   int pinDeviations_ = 0;  // replayed warp frames drawn as geometry: their keyframes were building
   std::vector<int> nextPinnedWarp_;  // per frame: the next keyframe whose segment the pin warps (-1: none)
-  std::vector<FrameKind> kinds_;
+  FrameKind lastKind_ = FrameKind::Geometry;
   const char* pinState_ = "off";
   std::string pinNote_;
   bool builtThisFrame_ = false;
@@ -323,7 +324,8 @@ bool WalkLoop::pinnedWarps(int k) const {
 // written leaves the walk as it is (pinNote_ says why).
 void WalkLoop::writePin() {
   if (pinFile_.empty() || !pinned_.empty()) return;
-  if (auto st = writeModePin(pinFile_, ModePin{kinds_, holeRects_}, label_); !st) {
+  if (auto st = writeModePin(pinFile_, ModePin{recorder_.frameTimes.kind.values(), holeRects_}, label_);
+      !st) {
     pinNote_ = st.error().message;
     pinState_ = "measured, not pinned";
   }
@@ -516,8 +518,8 @@ Status WalkLoop::chooseKind(int i, int k0, int k1, FrameKind* kind) {
     // A warp start waits for no build, as in the measured run (whose starts
     // found their keyframes built): while they are building, the frame is
     // drawn as geometry and the next one tries again.
-    if (*kind != FrameKind::Geometry && asyncKf_ && !kinds_.empty() &&
-        kinds_.back() == FrameKind::Geometry && !segmentKeyframesReady(k0)) {
+    if (*kind != FrameKind::Geometry && asyncKf_ && i > 0 && lastKind_ == FrameKind::Geometry &&
+        !segmentKeyframesReady(k0)) {
       *kind = FrameKind::Geometry;
       ++pinDeviations_;
     }
@@ -1063,7 +1065,7 @@ Status WalkLoop::frame(int i) {
   const auto [k0, k1] = schedule_.bracket(i);
   FrameKind kind = FrameKind::Geometry;
   HW_TRY(chooseKind(i, k0, k1, &kind));
-  holeRects_.push_back(-1);
+  if (!pinFile_.empty() && pinned_.empty()) holeRects_.push_back(-1);
   json ms = json::object();
   currentRefMs_ = std::nan("");
   if (opt_.reference && kind != FrameKind::Geometry) {  // a geometry frame is its own
@@ -1103,7 +1105,7 @@ Status WalkLoop::frame(int i) {
   else
     HW_TRY(inBetweenFrame(i, k0, k1, fj, ms));
   ++kindCounts_[static_cast<int>(kind)];
-  kinds_.push_back(kind);
+  lastKind_ = kind;
   fj["mode"] = frameKindName(kind);
   ms["keyframe_wait"] = frameWaitMs_;
   recorder_.series.frameMs.push_back(ms["frame"].get<double>());
