@@ -86,6 +86,23 @@ class GeometryRenderer {
     if (stats) *stats = total;
     return {};
   }
+  // renderColour and renderColourRects without the readback, for a caller
+  // that keeps frames on the GPU: the image (or each rectangle of it) is
+  // copied on the GPU into colour attachment 0 of GL framebuffer
+  // `framebuffer` (its draw buffer is set to it), which must be a texture of
+  // the camera's size (RGBA8; row 0 = bottom, so a rectangle's rows y0..y1
+  // land in rows height-y1..height-y0). Errors as renderColour(Rects), and
+  // for a target that is not such a framebuffer; renderers that do not draw
+  // with OpenGL return one.
+  virtual Status renderColourTo(const Camera& /*camera*/, unsigned /*framebuffer*/,
+                                RenderStats* /*stats*/ = nullptr) {
+    return makeError("this renderer does not draw with OpenGL: no image on the GPU to copy");
+  }
+  virtual Status renderColourRectsTo(const Camera& /*camera*/, const PixelRect* /*rects*/,
+                                     int /*count*/, unsigned /*framebuffer*/,
+                                     RenderStats* /*stats*/ = nullptr) {
+    return makeError("this renderer does not draw with OpenGL: no image on the GPU to copy");
+  }
   // Only the clusters whose bounds come within `distance` of one of `eyes`
   // (with the keyframes' eyes among them: what renderKeyframe left out of
   // those keyframes), drawn at `camera`: colour, eye z (0 where empty) and

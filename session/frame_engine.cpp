@@ -68,7 +68,33 @@ Status FrameEngine::createWarper(warp::WarperChoice choice, int cpuThreads) {
 
 void FrameEngine::present() {
   std::swap(previous_, frame_);
+  if (gpu_) gpu_->swap();
   havePrevious_ = true;
+}
+
+bool FrameEngine::keepFramesOnGpu(bool on) {
+  const InBetweenOptions& o = step_.options();
+  if (on && (cpuWarper_ || !o.fused() || o.reprojects() || o.nearDistance > 0)) return false;
+  if (on && !gpu_) gpu_ = std::make_unique<gapfill::GpuFrames>();
+  if (!on) gpu_.reset();
+  havePrevious_ = false;
+  return true;
+}
+
+void FrameEngine::readFrame(Image<Rgba8>& out) {
+  if (gpu_ && gpu_->width() == frame_.colour.width() && gpu_->height() == frame_.colour.height())
+    gpu_->readColour(out);
+  else
+    out = frame_.colour;
+}
+
+Status FrameEngine::showImage(const Image<Rgba8>& colour) {
+  session::showKeyframe(colour, frame_);
+  if (gpu_) {
+    HW_TRY(gpu_->resize(colour.width(), colour.height()));
+    HW_TRY(gpu_->upload(colour));
+  }
+  return {};
 }
 
 Status FrameEngine::upload(int id, const keyframe::Keyframe& keyframe,
@@ -98,7 +124,7 @@ void FrameEngine::releaseBefore(int id) {
 
 Status FrameEngine::showKeyframe(const Camera& cam, int id, const keyframe::Keyframe& keyframe,
                                  InBetweenStats* stats, int alsoNear) {
-  session::showKeyframe(keyframe.colour, frame_);
+  HW_TRY(showImage(keyframe.colour));
   if (step_.options().reprojects()) setKeyframeDepth(keyframe, frame_);
   if (step_.options().nearDistance > 0) {
     NearGeometry near;
@@ -124,11 +150,43 @@ Status FrameEngine::warp(const Camera& cam, int a, int b, InBetweenStats& stats,
   const Entry& fg = bFront ? *eb : ea;
   const Entry* bg = bFront ? &ea : eb;
   if (foreground) *foreground = bFront ? b : a;
+  if (gpu_) return warpOnGpu(cam, *fg.source, bg ? bg->source.get() : nullptr, stats);
   return step_.draw(*warper_, *fg.source, bg ? bg->source.get() : nullptr, cam,
                     havePrevious_ ? &previous_ : nullptr, &near, frame_, stats);
 }
 
+Status FrameEngine::warpOnGpu(const Camera& cam, const warp::WarpSource& fg,
+                             const warp::WarpSource* bg, InBetweenStats& st) {
+  st = InBetweenStats{};
+  st.fused = true;
+  HW_TRY(gpu_->resize(cam.width, cam.height));
+  warp::PairStats ps;
+  HW_TRY(warper_->warpPairOnGpu(fg, bg, cam, step_.options().skipBackground, &ps));
+  Stopwatch sc;
+  HW_TRY(gpu_->compose(warper_->pairTexture(), havePrevious_));
+  gpu_->readMasks(frame_);
+  st.composeMs = sc.ms();
+  st.backgroundDrawn = ps.backgroundDrawn;
+  st.foregroundUncovered = ps.uncoveredByForeground;
+  st.quadsForeground = ps.quadsForeground;
+  st.quadsBackground = ps.quadsBackground;
+  st.backgroundCulled = ps.backgroundCulled;
+  st.warpAMs = ps.foregroundMs;
+  st.warpBMs = ps.backgroundMs;
+  st.cullMs = ps.cullMs;
+  return {};
+}
+
 Status FrameEngine::drawGeometry(const Camera& cam, keyframe::RenderStats* stats) {
+  if (gpu_) {
+    HW_TRY(gpu_->resize(cam.width, cam.height));
+    HW_TRY(renderer_->renderColourTo(cam, gpu_->copyTarget(), stats));
+    gpu_->markAllDrawn();
+    if (frame_.colour.width() != cam.width || frame_.colour.height() != cam.height)
+      frame_.colour.resize(cam.width, cam.height);
+    session::showKeyframe(frame_.colour, frame_);  // the masks: no holes
+    return {};
+  }
   HW_TRY(renderer_->renderColour(cam, frame_.colour, stats));
   session::showKeyframe(frame_.colour, frame_);
   if (step_.options().reprojects()) {  // no depth read back: the next fill copies instead
@@ -149,7 +207,7 @@ Status FrameEngine::renderHoles(const Camera& cam, const HoleBudget* budget, Hol
                         budget->geometryMs - budget->frameMsSoFar);
     maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };
   }
-  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, maxRects, out));
+  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, maxRects, out, gpu_.get()));
   if (out->drawn > 0) holeCost_.update(out->drawn, out->drawMs);
   if (budgetMsOut) *budgetMsOut = budgetMs;
   return {};

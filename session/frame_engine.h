@@ -16,6 +16,7 @@
 #include "core/camera.h"
 #include "core/result.h"
 #include "gapfill/compose.h"
+#include "gapfill/gl/gpu_frames.h"
 #include "keyframe/geometry_renderer.h"
 #include "keyframe/keyframe.h"
 #include "keyframe/keyframe_cache.h"
@@ -75,6 +76,22 @@ class FrameEngine {
   InBetweenStep& step() { return step_; }
   const InBetweenOptions& inBetweenOptions() const { return step_.options(); }
 
+  // Frames kept on the GPU (for a driver that shows them there, the viewer):
+  // composition, the previous-frame fill and the hole pass's rectangles stay
+  // in GL textures, and only the masks are read back (frame().holesBefore,
+  // .valid and the counts stay current; frame().colour does not: readFrame).
+  // Possible with OpenGL's warper, the fused overlay, the copy fallback and
+  // no near geometry; false (and unchanged) otherwise. The frames are the
+  // same bit for bit; frame ages (gapfill/age.h) are not kept. Forgets the
+  // previous frame.
+  bool keepFramesOnGpu(bool on);
+  bool framesOnGpu() const { return gpu_ != nullptr; }
+  // The frame drawn (row 0 = top), wherever it is kept.
+  void readFrame(Image<Rgba8>& out);
+  // The current frame's colour texture on the GPU (row 0 = bottom); 0 unless
+  // framesOnGpu().
+  unsigned frameTexture() const { return gpu_ ? gpu_->colourTexture() : 0; }
+
   // The frame being drawn, and the last one presented (the previous-frame
   // fill reads it).
   gapfill::Frame& frame() { return frame_; }
@@ -102,6 +119,9 @@ class FrameEngine {
   // -1: none): a keyframe whose near clusters are drawn too.
   Status showKeyframe(const Camera& cam, int id, const keyframe::Keyframe& keyframe,
                       InBetweenStats* stats, int alsoNear = -1);
+  // An image shown as the frame as it is (a keyframe rendered at this very
+  // camera): no holes, nothing older.
+  Status showImage(const Image<Rgba8>& colour);
   // The in-between frame at `cam` from keyframes `a` and `b` (-1: one layer):
   // the one whose keyframe eye is nearer in front (gapfill::chooseForeground,
   // ties to `a`), the previous frame where both miss, near objects of both.
@@ -129,6 +149,8 @@ class FrameEngine {
   };
   explicit FrameEngine(const WalkOptions& options);
   const Entry& entry(int id) const;
+  Status warpOnGpu(const Camera& cam, const warp::WarpSource& fg, const warp::WarpSource* bg,
+                   InBetweenStats& st);
 
   InBetweenStep step_;
   DepthMode depthMode_;
@@ -143,6 +165,7 @@ class FrameEngine {
   HoleCostModel holeCost_;
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;
+  std::unique_ptr<gapfill::GpuFrames> gpu_;  // framesOnGpu()
 };
 
 }  // namespace hw::session

@@ -1,5 +1,7 @@
 #include "session/hole_pass.h"
 
+#include <cstring>
+
 #include "core/timer.h"
 #include "gapfill/age.h"
 #include "session/walk.h"
@@ -17,7 +19,7 @@ void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour, gap
 
 Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
                      InBetweenStep& step, const std::function<int(int)>& maxRects,
-                     HolePassResult* out) {
+                     HolePassResult* out, gapfill::GpuFrames* gpu) {
   *out = HolePassResult{};
   gapfill::holeRects(frame.holesBefore, WalkOptions::kHoleTilePx,
                      WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, rects_, scores_);
@@ -33,12 +35,25 @@ Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, ga
   if (n > 0) {
     Stopwatch sd;
     keyframe::RenderStats rs;
-    HW_TRY(renderer.renderColourRects(cam, px_.data(), static_cast<int>(n), colours_.data(), &rs));
+    if (gpu) {
+      HW_TRY(renderer.renderColourRectsTo(cam, px_.data(), static_cast<int>(n), gpu->copyTarget(),
+                                          &rs));
+      gpu->markValid(px_.data(), static_cast<int>(n));
+    } else {
+      HW_TRY(renderer.renderColourRects(cam, px_.data(), static_cast<int>(n), colours_.data(),
+                                        &rs));
+    }
     out->drawMs = sd.ms();
     out->triangles = static_cast<long long>(rs.trianglesDrawn);
   }
   for (std::size_t k = 0; k < n; ++k) {
-    applyRendered(px_[k], colours_[k], frame, step);
+    if (gpu) {
+      const PixelRect& r = px_[k];
+      for (int y = r.y0; y < r.y1; ++y)
+        std::memset(&frame.valid(r.x0, y), 1, static_cast<std::size_t>(r.width()));
+    } else {
+      applyRendered(px_[k], colours_[k], frame, step);
+    }
     out->holes += rects_[k].holes;
     out->area += px_[k].area();
   }

@@ -13,6 +13,7 @@
 #include "core/image.h"
 #include "core/result.h"
 #include "gapfill/compose.h"
+#include "gapfill/gl/gpu_frames.h"
 #include "gapfill/hole_rects.h"
 #include "keyframe/geometry_renderer.h"
 #include "session/in_between.h"
@@ -36,9 +37,12 @@ struct HolePassResult {
 class HolePass {
  public:
   // Finds the hole rectangles of frame.holesBefore; `maxRects(wanted)` says
-  // how many of them to draw (null: all).
+  // how many of them to draw (null: all). With `gpu` (frames kept on the
+  // GPU) the rectangles are copied into its current frame there, and only
+  // frame.valid is updated on the CPU.
   Status run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
-             InBetweenStep& step, const std::function<int(int)>& maxRects, HolePassResult* out);
+             InBetweenStep& step, const std::function<int(int)>& maxRects, HolePassResult* out,
+             gapfill::GpuFrames* gpu = nullptr);
 
  private:
   std::vector<std::uint32_t> scores_;

@@ -11,6 +11,13 @@ namespace hw::warp {
 // finite so that no buffer holds Inf.
 constexpr float kSkyEyeZ = 1.0e30f;
 
+// The alpha a fused pair (Warper::warpPair) writes per pixel on the GPU, from
+// which it derives Layer::coverage and Layer::largeQuad: 0 where neither
+// layer covers; foreground 255, background 254, and 2 lower for pixels of
+// large leaves (WarpOptions::markLargeQuads).
+constexpr std::uint8_t kAlphaForeground = 255, kAlphaBackground = 254, kAlphaLargeForeground = 253,
+                       kAlphaLargeBackground = 252;
+
 struct Layer {
   Image<Rgba8> colour;          // row 0 = top
   Image<std::uint8_t> coverage; // non-zero where a quad covers the pixel (Warper::warpPair:

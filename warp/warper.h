@@ -147,6 +147,18 @@ class Warper {
   virtual Status warpPair(const WarpSource& foreground, const WarpSource* background,
                           const Camera& target, Layer& out, bool skipBackgroundWhenCovered,
                           PairStats* stats = nullptr) = 0;
+  // warpPair without the readback, for a caller that keeps frames on the
+  // GPU: the pair stays in pairTexture() (an RGBA8 texture of the target's
+  // size, row 0 = bottom; alpha 0 where neither layer covers, else the pair's
+  // codes, warp/layer.h) until the next pair is drawn. `stats` as warpPair's,
+  // except readbackMs = 0 and fromBackground = uncovered = -1 (not counted).
+  // Warpers that do not draw with OpenGL have no such texture: an error.
+  virtual Status warpPairOnGpu(const WarpSource& /*foreground*/, const WarpSource* /*background*/,
+                               const Camera& /*target*/, bool /*skipBackgroundWhenCovered*/,
+                               PairStats* /*stats*/ = nullptr) {
+    return makeError("this warper draws its layers on the CPU: no layer texture on the GPU");
+  }
+  virtual unsigned pairTexture() const { return 0; }
   virtual const WarpOptions& options() const = 0;
 };
 

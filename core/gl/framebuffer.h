@@ -41,6 +41,10 @@ class Framebuffer {
 
   int width() const { return width_; }
   int height() const { return height_; }
+  // The GL framebuffer and its colour attachment (RGBA8, row 0 = bottom),
+  // for copies on the GPU (glBlitFramebuffer, texelFetch).
+  unsigned id() const { return fbo_; }
+  unsigned colourTexture() const { return colour_; }
   DepthMode depthMode() const { return mode_; }
 
  private:

@@ -86,6 +86,10 @@
   X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)                 \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)           \
   X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                         \
+  X(PFNGLISFRAMEBUFFERPROC, glIsFramebuffer)                             \
+  X(PFNGLGETFRAMEBUFFERATTACHMENTPARAMETERIVPROC, glGetFramebufferAttachmentParameteriv)\
+  X(PFNGLGETTEXLEVELPARAMETERIVPROC, glGetTexLevelParameteriv)           \
+  X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv)                             \
   X(PFNGLCLIPCONTROLPROC, glClipControl)                                 \
   X(PFNGLSTENCILFUNCPROC, glStencilFunc)                                 \
   X(PFNGLSTENCILOPPROC, glStencilOp)                                     \

@@ -330,16 +330,7 @@ class GlGeometryRenderer final : public GeometryRenderer {
 
   Status renderColourRects(const Camera& camera, const PixelRect* rects, int count,
                            Image<Rgba8>* outs, RenderStats* stats) override {
-    for (int k = 0; k < count; ++k) {
-      const PixelRect& rect = rects[k];
-      if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > camera.width || rect.y1 > camera.height ||
-          rect.width() < 1 || rect.height() < 1)
-        return makeError("renderColourRect: rectangle [" + std::to_string(rect.x0) + ", " +
-                         std::to_string(rect.x1) + ") x [" + std::to_string(rect.y0) + ", " +
-                         std::to_string(rect.y1) + "): expected a non-empty rectangle inside the " +
-                         std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                         " image");
-    }
+    HW_TRY(checkRects(camera, rects, count));
     RenderStats local;
     if (count > 0) HW_TRY(draw(camera, local, nullptr, rects, count));
     Stopwatch sw;
@@ -348,6 +339,33 @@ class GlGeometryRenderer final : public GeometryRenderer {
     local.readbackMs = sw.ms();
     if (stats) *stats = local;
     return gl::checkGlError("GeometryRenderer::renderColourRect");
+  }
+
+  Status renderColourTo(const Camera& camera, unsigned framebuffer, RenderStats* stats) override {
+    RenderStats local;
+    HW_TRY(draw(camera, local));
+    Stopwatch sw;
+    HW_TRY(checkTarget(framebuffer, camera));
+    const PixelRect whole{0, 0, camera.width, camera.height};
+    copyRects(framebuffer, camera, &whole, 1);
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderColourTo");
+  }
+
+  Status renderColourRectsTo(const Camera& camera, const PixelRect* rects, int count,
+                             unsigned framebuffer, RenderStats* stats) override {
+    HW_TRY(checkRects(camera, rects, count));
+    RenderStats local;
+    if (count > 0) HW_TRY(draw(camera, local, nullptr, rects, count));
+    Stopwatch sw;
+    if (count > 0) {
+      HW_TRY(checkTarget(framebuffer, camera));
+      copyRects(framebuffer, camera, rects, count);
+    }
+    local.readbackMs = sw.ms();
+    if (stats) *stats = local;
+    return gl::checkGlError("GeometryRenderer::renderColourRectsTo");
   }
 
   Status renderNear(const Camera& camera, const glm::dvec3* eyes, int eyeCount, double distance,
@@ -389,6 +407,65 @@ class GlGeometryRenderer final : public GeometryRenderer {
     if (!fb) return fb.error();
     fbo_ = std::move(*fb);
     return {};
+  }
+
+  static Status checkRects(const Camera& camera, const PixelRect* rects, int count) {
+    for (int k = 0; k < count; ++k) {
+      const PixelRect& rect = rects[k];
+      if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > camera.width || rect.y1 > camera.height ||
+          rect.width() < 1 || rect.height() < 1)
+        return makeError("renderColourRect: rectangle [" + std::to_string(rect.x0) + ", " +
+                         std::to_string(rect.x1) + ") x [" + std::to_string(rect.y0) + ", " +
+                         std::to_string(rect.y1) + "): expected a non-empty rectangle inside the " +
+                         std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                         " image");
+    }
+    return {};
+  }
+
+  // A copy target: a complete framebuffer whose colour attachment 0 is the
+  // camera's size.
+  static Status checkTarget(unsigned framebuffer, const Camera& camera) {
+    if (framebuffer == 0 || !glIsFramebuffer(framebuffer))
+      return makeError("copying the geometry to the GPU: " + std::to_string(framebuffer) +
+                       " is not a framebuffer object");
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
+    GLint type = 0, tex = 0, w = 0, h = 0;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type == GL_TEXTURE) {
+      glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                            GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &tex);
+      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(tex));
+      glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
+      glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &h);
+      glBindTexture(GL_TEXTURE_2D, 0);
+    }
+    if (type != GL_TEXTURE || w != camera.width || h != camera.height)
+      return makeError("copying the geometry to the GPU: the target's colour attachment is " +
+                       (type == GL_TEXTURE ? std::to_string(w) + "x" + std::to_string(h)
+                                           : std::string("not a texture")) +
+                       ", expected a " + std::to_string(camera.width) + "x" +
+                       std::to_string(camera.height) + " texture");
+    return {};
+  }
+
+  // The rectangles (row 0 = top) of the last draw into `framebuffer`'s
+  // colour attachment 0, pixel for pixel.
+  void copyRects(unsigned framebuffer, const Camera& camera, const PixelRect* rects, int count) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
+    const GLenum attachment = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &attachment);
+    glDisable(GL_SCISSOR_TEST);
+    for (int k = 0; k < count; ++k) {
+      const PixelRect& r = rects[k];
+      const int y0 = camera.height - r.y1, y1 = camera.height - r.y0;
+      glBlitFramebuffer(r.x0, y0, r.x1, y1, r.x0, y0, r.x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glFinish();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
 
   // Frustum planes from a double view-projection (Gribb-Hartmann), tested

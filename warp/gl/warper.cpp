@@ -102,11 +102,9 @@ constexpr const char* kQueryFragment = R"(#version 450 core
 void main() {}
 )";
 
-// Alpha of background pixels in a fused pair: exactly 254 in RGBA8. Pixels
-// of large leaves (markLargeQuads) are 2 lower: 253 foreground, 252 background.
+// Alpha of background pixels in a fused pair: exactly kAlphaBackground (254)
+// in RGBA8 (warp/layer.h). Pixels of large leaves (markLargeQuads) are 2 lower.
 constexpr float kBackgroundAlpha = 254.0f / 255.0f;
-constexpr std::uint8_t kAlphaForeground = 255, kAlphaBackground = 254, kAlphaLargeForeground = 253,
-                       kAlphaLargeBackground = 252;
 
 // Float is enough here ("precision where it matters"); corners,
 // matrices and unprojection are computed in double and rounded once:
@@ -312,6 +310,51 @@ class GlWarper final : public Warper {
   Status warpPair(const WarpSource& foreground, const WarpSource* background,
                   const Camera& target, Layer& out, bool skipBackgroundWhenCovered,
                   PairStats* stats) override {
+    PairStats local;
+    PairStats& st = stats ? *stats : local;
+    HW_TRY(drawPair(foreground, background, target, skipBackgroundWhenCovered, st));
+    Stopwatch sw;
+    readLayer(pairFbo_, target, out);
+    const std::size_t n = out.colour.size();
+    Rgba8* c = out.colour.data();
+    std::uint8_t* cov = out.coverage.data();
+    std::uint8_t* large = options_.markLargeQuads ? out.largeQuad.data() : nullptr;
+    int fromBg = 0, uncovered = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t a = c[i].a;
+      const int isBg = a == kAlphaBackground || a == kAlphaLargeBackground, isNone = a == 0;
+      cov[i] = static_cast<std::uint8_t>(isNone ? 0 : 1 + isBg);
+      if (large) large[i] = a == kAlphaLargeForeground || a == kAlphaLargeBackground;
+      c[i].a = isNone ? 0 : kAlphaForeground;
+      fromBg += isBg;
+      uncovered += isNone;
+    }
+    st.readbackMs = sw.ms();
+    st.fromBackground = fromBg;
+    st.uncovered = uncovered;
+    return gl::checkGlError("Warper::warpPair");
+  }
+
+  Status warpPairOnGpu(const WarpSource& foreground, const WarpSource* background,
+                       const Camera& target, bool skipBackgroundWhenCovered,
+                       PairStats* stats) override {
+    PairStats local;
+    PairStats& st = stats ? *stats : local;
+    HW_TRY(drawPair(foreground, background, target, skipBackgroundWhenCovered, st));
+    st.readbackMs = 0;
+    st.fromBackground = st.uncovered = -1;
+    return gl::checkGlError("Warper::warpPairOnGpu");
+  }
+
+  unsigned pairTexture() const override { return pairFbo_.colourTexture(); }
+
+  const WarpOptions& options() const override { return options_; }
+
+ private:
+  // The fused pair drawn into pairFbo_ (warpPair's passes, up to its glFinish);
+  // `st` gets everything but the readback's fields.
+  Status drawPair(const WarpSource& foreground, const WarpSource* background,
+                  const Camera& target, bool skipBackgroundWhenCovered, PairStats& st) {
     const auto& fg = static_cast<const GlWarpSource&>(foreground);
     HW_TRY(ensureTarget(target, options_.writeEyeZ, true, pairFbo_));
     Stopwatch sw;
@@ -358,41 +401,18 @@ class GlWarper final : public Warper {
     }
     glDisable(GL_STENCIL_TEST);
     glFinish();
-    const double bgMs = sw.lap();
-    readLayer(pairFbo_, target, out);
-    const std::size_t n = out.colour.size();
-    Rgba8* c = out.colour.data();
-    std::uint8_t* cov = out.coverage.data();
-    std::uint8_t* large = options_.markLargeQuads ? out.largeQuad.data() : nullptr;
-    int fromBg = 0, uncovered = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint8_t a = c[i].a;
-      const int isBg = a == kAlphaBackground || a == kAlphaLargeBackground, isNone = a == 0;
-      cov[i] = static_cast<std::uint8_t>(isNone ? 0 : 1 + isBg);
-      if (large) large[i] = a == kAlphaLargeForeground || a == kAlphaLargeBackground;
-      c[i].a = isNone ? 0 : kAlphaForeground;
-      fromBg += isBg;
-      uncovered += isNone;
-    }
-    if (stats) {
-      stats->foregroundMs = fgMs;
-      stats->backgroundMs = bgMs;
-      stats->readbackMs = sw.ms();
-      stats->quadsForeground = fg.quads;
-      stats->quadsBackground = !drawBg ? 0 : culled ? culled->quads : background->quadCount();
-      stats->backgroundCulled = culled ? culled->culled : 0;
-      stats->cullMs = cullMs;
-      stats->backgroundDrawn = drawBg;
-      stats->uncoveredByForeground = static_cast<int>(emptyAfterFg);
-      stats->fromBackground = fromBg;
-      stats->uncovered = uncovered;
-    }
-    return gl::checkGlError("Warper::warpPair");
+    st = PairStats{};
+    st.foregroundMs = fgMs;
+    st.backgroundMs = sw.lap();
+    st.quadsForeground = fg.quads;
+    st.quadsBackground = !drawBg ? 0 : culled ? culled->quads : background->quadCount();
+    st.backgroundCulled = culled ? culled->culled : 0;
+    st.cullMs = cullMs;
+    st.backgroundDrawn = drawBg;
+    st.uncoveredByForeground = static_cast<int>(emptyAfterFg);
+    return {};
   }
 
-  const WarpOptions& options() const override { return options_; }
-
- private:
   // The source's vertices (scratch_) and indices (indices_): the mesh's
   // leaves, then the sky rects, then one point per 1×1 leaf (Points).
   // Returns the number of leaves cut into cells.
