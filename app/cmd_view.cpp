@@ -206,11 +206,15 @@ void addViewCommand(CLI::App& app, Commands& commands) {
                       "requested, waited for); the exit also prints the frame ms median / p95 / "
                       "max and the frames drawn each way");
 
+  viewCmd->add_flag("--frames-on-cpu", [&o](std::int64_t) { o.vo.framesOnGpu = false; },
+                    "With OpenGL's warper (--warper gl, or auto on a GPU), read every frame back "
+                    "and compose it on the CPU as walk does, instead of keeping it on the GPU (the "
+                    "same pixels; for timing the difference)");
   setGroups(viewCmd, {{"Essentials", {"--help", "--scene", "--path", "--play", "--width", "--height",
                                       "--geometry", "--no-hud", "--exit-after", "--screenshot",
                                       "--record", "--keys"}},
                       {"Keyframes", {"--keyframes", "--keyframe-every"}},
-                      {"Timing", {"--frame-stats"}}});
+                      {"Timing", {"--frame-stats", "--frames-on-cpu"}}});
   commands.push_back({viewCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }
 

@@ -65,6 +65,10 @@ struct ViewerOptions {
   // (WalkOptions::warper, warperThreads).
   warp::WarperChoice warper = warp::WarperChoice::Auto;
   int warperThreads = session::WalkOptions{}.warperThreads;
+  // With OpenGL's warper, frames are composed, hole-filled and shown on the
+  // GPU (session::FrameEngine::keepFramesOnGpu); false: read back and
+  // composed on the CPU as the walk does (the same pixels).
+  bool framesOnGpu = true;
   // Frames between keyframes of the play/default path (its keyframe_every,
   // which sets the keyframe spacing); 0 = the path's own (`view --keyframe-every`).
   int keyframeEvery = 0;

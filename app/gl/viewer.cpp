@@ -73,6 +73,9 @@ Status Viewer::setUp() {
   auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);
   if (!engine) return engine.error();
   engine_ = std::move(*engine);
+  // With OpenGL's warper the frames stay on the GPU: composed, hole-filled and
+  // shown there, never read back to draw the next one.
+  if (opt_.framesOnGpu) engine_->keepFramesOnGpu(true);
   renderer_ = &engine_->renderer();
   lodOptions_ = opt_.lod;
 

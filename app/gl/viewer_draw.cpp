@@ -31,9 +31,10 @@ in vec2 vUv;
 uniform sampler2D colourTex;
 uniform sampler2D holeTex;
 uniform int showHoles;
+uniform int flipColour;  // the colour texture's row 0 is the bottom (a frame kept on the GPU)
 out vec4 outColour;
 void main() {
-  vec3 c = texture(colourTex, vUv).rgb;
+  vec3 c = texture(colourTex, flipColour != 0 ? vec2(vUv.x, 1.0 - vUv.y) : vUv).rgb;
   if (showHoles != 0 && texture(holeTex, vUv).r > 0.5) c = mix(c, vec3(1.0, 0.0, 0.0), 0.7);
   outColour = vec4(c, 1.0);
 })";
@@ -85,6 +86,7 @@ Status Viewer::createGlResources() {
   glUniform1i(displayProg_.uniform("colourTex"), 0);
   glUniform1i(displayProg_.uniform("holeTex"), 1);
   uShowHoles_ = displayProg_.uniform("showHoles");
+  uFlipColour_ = displayProg_.uniform("flipColour");
   uViewProj_ = lineProg_.uniform("viewProj");
   uLineColour_ = lineProg_.uniform("colour");
   uScreen_ = hudProg_.uniform("screen");
@@ -136,7 +138,8 @@ Status Viewer::createGlResources() {
 Status Viewer::computePsnr() {
   Stopwatch sw;
   HW_TRY(renderer_->renderColour(cam_, reference_));
-  const double p = psnr(engine_->frame().colour, reference_);
+  engine_->readFrame(shownFrame_);
+  const double p = psnr(shownFrame_, reference_);
   std::snprintf(psnrText_, sizeof psnrText_, "PSNR %.2f dB vs geometry (%s, frame %ld)",
                 std::isfinite(p) ? p : 99.0, hybrid_ ? "hybrid" : "geometry", frameIndex_);
   if (!std::isfinite(p))
@@ -272,9 +275,16 @@ void Viewer::drawWindow() {
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, colourTex_);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
-                  engine_->frame().colour.data());
+  // A frame kept on the GPU is shown from its own texture; one drawn on the
+  // CPU is uploaded.
+  const bool onGpu = engine_->framesOnGpu() && engine_->frameTexture() != 0;
+  if (onGpu) {
+    glBindTexture(GL_TEXTURE_2D, engine_->frameTexture());
+  } else {
+    glBindTexture(GL_TEXTURE_2D, colourTex_);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
+                    engine_->frame().colour.data());
+  }
   const bool holes = holeMask_ && hybrid_;
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, holeTex_);
@@ -283,6 +293,7 @@ void Viewer::drawWindow() {
                     engine_->frame().holesBefore.data());
   displayProg_.use();
   glUniform1i(uShowHoles_, holes ? 1 : 0);
+  glUniform1i(uFlipColour_, onGpu ? 1 : 0);
   glBindVertexArray(emptyVao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 
@@ -323,6 +334,7 @@ void Viewer::drawWindow() {
               h = std::max(1, w * overlayH_ / std::max(1, overlayW_));
     displayProg_.use();
     glUniform1i(uShowHoles_, 0);
+    glUniform1i(uFlipColour_, 0);
     glViewport(width_ - w - 8, 8, w, h);  // bottom right, clear of the HUD
     glBindVertexArray(emptyVao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);

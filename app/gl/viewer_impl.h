@@ -201,7 +201,7 @@ class Viewer {
   keyframe::LodBuilder lod_;
   keyframe::LodOptions lodOptions_;
   gl::Program displayProg_, lineProg_, hudProg_;
-  int uShowHoles_ = -1, uViewProj_ = -1, uLineColour_ = -1, uScreen_ = -1, uScale_ = -1;
+  int uShowHoles_ = -1, uFlipColour_ = -1, uViewProj_ = -1, uLineColour_ = -1, uScreen_ = -1, uScale_ = -1;
   unsigned emptyVao_ = 0, lineVao_ = 0, hudVao_ = 0, hudVbo_ = 0, hudIbo_ = 0;
   unsigned colourTex_ = 0, holeTex_ = 0, overlayTex_ = 0;
 
@@ -243,7 +243,7 @@ class Viewer {
   int foregroundSlot_ = -1;
   long overlaySerial_ = -1;
   int overlayW_ = 0, overlayH_ = 0;
-  Image<Rgba8> reference_, windowImage_;
+  Image<Rgba8> reference_, windowImage_, shownFrame_;
   std::vector<Rgba8> readScratch_;
   std::vector<float> lineScratch_;
   std::vector<EasyVertex> hudVerts_;

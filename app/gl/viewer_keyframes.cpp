@@ -420,7 +420,7 @@ Status Viewer::renderHybrid(FrameStats& st) {
   // A keyframe rendered at this very camera is the frame itself.
   if (fg.kf.camera.eye == cam_.eye && fg.kf.camera.forward == cam_.forward &&
       fg.kf.camera.width == width_ && fg.kf.camera.height == height_) {
-    session::showKeyframe(fg.kf.colour, engine_->frame());
+    HW_TRY(engine_->showImage(fg.kf.colour));
     st.direct = true;
     st.layers = 0;
     st.quadsA = fg.mesh.stats.quads;
@@ -496,12 +496,9 @@ Status Viewer::renderFrame() {
   } else {
     keyframe::RenderStats rs;
     if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    const Status s = renderer_->renderColour(cam_, engine_->frame().colour, &rs);
+    const Status s = engine_->drawGeometry(cam_, &rs);
     if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     HW_TRY(s);
-    engine_->frame().holesBefore.fill(0);
-    engine_->frame().valid.fill(1);
-    engine_->frame().holeFractionBefore = engine_->frame().holeFractionAfter = 0;
     st.geometryMs = rs.drawMs + rs.readbackMs;
     st.trianglesDrawn = rs.trianglesDrawn;
     if (probe) engine_->forgetPrevious();

@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <string>
 
@@ -45,7 +46,8 @@ struct Session {
 };
 
 Session runScripted(bool hybrid, const std::string& tag, bool hud = false,
-                    const std::string& keys = "", const std::string& recordPath = "") {
+                    const std::string& keys = "", const std::string& recordPath = "",
+                    const std::function<void(app::ViewerOptions&)>& configure = {}) {
   Session out;
   const std::string dir = ::testing::TempDir();
   const std::string pathFile = dir + "viewer_path_" + tag + ".json";
@@ -67,6 +69,7 @@ Session runScripted(bool hybrid, const std::string& tag, bool hud = false,
   opt.hud = hud;
   opt.keys = keys;
   opt.recordPath = recordPath;
+  if (configure) configure(opt);
   // Reference: the geometry renderer in the viewer's own window context, at
   // the final camera and the window's size.
   opt.onExit = [&](const Camera& cam) {
@@ -137,6 +140,36 @@ void checkSession(bool hybrid, const std::string& tag, double psnrFloorDb) {
 TEST(Viewer, GeometryModeScreenshotMatchesReference) { checkSession(false, "geometry", 25.0); }
 
 TEST(Viewer, HybridModeScreenshotMatchesReference) { checkSession(true, "hybrid", 20.0); }
+
+// With OpenGL's warper the frames stay on the GPU (composed, hole-filled and
+// shown from a texture); read back and composed on the CPU instead, the
+// window shows the same pixels.
+TEST(Viewer, FramesKeptOnTheGpuAreTheFramesComposedOnTheCpu) {
+  ASSERT_NE(std::getenv("DISPLAY"), nullptr)
+      << "no DISPLAY: run under xvfb-run (scripts/test.sh does)";
+  Session sessions[2];
+  for (int onGpu = 0; onGpu < 2; ++onGpu)
+    sessions[onGpu] = runScripted(true, onGpu ? "frames_gpu" : "frames_cpu", false, "", "",
+                                  [onGpu](app::ViewerOptions& o) {
+                                    o.warper = warp::WarperChoice::Gl;
+                                    o.renderHoles = true;
+                                    o.framesOnGpu = onGpu != 0;
+                                  });
+  for (const Session& s : sessions) {
+    ASSERT_EQ(s.exitCode, 0);
+    ASSERT_FALSE(s.screenshot.empty()) << "no screenshot written";
+  }
+  const Image<Rgba8>& cpu = sessions[0].screenshot;
+  const Image<Rgba8>& gpu = sessions[1].screenshot;
+  EXPECT_GT(distinctColours(gpu), 500u);
+  ASSERT_EQ(cpu.width(), gpu.width());
+  ASSERT_EQ(cpu.height(), gpu.height());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) differ += !(cpu.pixels()[i] == gpu.pixels()[i]);
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GE(psnrCapped(gpu, sessions[1].reference), 20.0);
+  if (::testing::Test::HasFailure()) writeFailureImages(sessions[1], "frames_gpu");
+}
 
 TEST(Viewer, HudIsDrawnOverTheFrame) {
   ASSERT_NE(std::getenv("DISPLAY"), nullptr)
