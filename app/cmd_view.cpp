@@ -206,15 +206,25 @@ void addViewCommand(CLI::App& app, Commands& commands) {
                       "requested, waited for); the exit also prints the frame ms median / p95 / "
                       "max and the frames drawn each way");
 
-  viewCmd->add_flag("--frames-on-cpu", [&o](std::int64_t) { o.vo.framesOnGpu = false; },
-                    "With OpenGL's warper (--warper gl, or auto on a GPU), read every frame back "
-                    "and compose it on the CPU as walk does, instead of keeping it on the GPU (the "
-                    "same pixels; for timing the difference)");
+  viewCmd
+      ->add_option_function<std::string>(
+          "--frames-on",
+          [&o](const std::string& v) {
+            o.vo.framesOn = v == "gpu"   ? app::ViewerOptions::FramesOn::Gpu
+                            : v == "cpu" ? app::ViewerOptions::FramesOn::Cpu
+                                         : app::ViewerOptions::FramesOn::Auto;
+          },
+          "Where frames drawn with OpenGL's warper (--warper gl, or auto on a GPU) are composed: "
+          "gpu (composed, hole-filled and shown from a texture, never read back), cpu (read back "
+          "and composed as walk does; the same pixels) or auto (gpu unless OpenGL is a CPU "
+          "rasteriser such as llvmpipe, where cpu measured faster)")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->default_str("auto");
   setGroups(viewCmd, {{"Essentials", {"--help", "--scene", "--path", "--play", "--width", "--height",
                                       "--geometry", "--no-hud", "--exit-after", "--screenshot",
                                       "--record", "--keys"}},
                       {"Keyframes", {"--keyframes", "--keyframe-every"}},
-                      {"Timing", {"--frame-stats", "--frames-on-cpu"}}});
+                      {"Timing", {"--frame-stats", "--frames-on"}}});
   commands.push_back({viewCmd, [state](int argc, char** argv) { return run(*state, argc, argv); }});
 }
 

@@ -65,10 +65,15 @@ struct ViewerOptions {
   // (WalkOptions::warper, warperThreads).
   warp::WarperChoice warper = warp::WarperChoice::Auto;
   int warperThreads = session::WalkOptions{}.warperThreads;
-  // With OpenGL's warper, frames are composed, hole-filled and shown on the
-  // GPU (session::FrameEngine::keepFramesOnGpu); false: read back and
-  // composed on the CPU as the walk does (the same pixels).
-  bool framesOnGpu = true;
+  // Where frames are composed with OpenGL's warper: Gpu keeps them there
+  // (session::FrameEngine::keepFramesOnGpu: composed, hole-filled and shown
+  // from a texture, never read back to draw the next one); Cpu reads each
+  // back and composes it as walk does (the same pixels); Auto: the GPU unless
+  // OpenGL is itself a CPU rasteriser (Mesa's llvmpipe), where composing on
+  // the CPU measured faster (docs/viewer.md). The CPU warper composes on the
+  // CPU whatever this says.
+  enum class FramesOn { Auto, Gpu, Cpu };
+  FramesOn framesOn = FramesOn::Auto;
   // Frames between keyframes of the play/default path (its keyframe_every,
   // which sets the keyframe spacing); 0 = the path's own (`view --keyframe-every`).
   int keyframeEvery = 0;

@@ -164,8 +164,10 @@ Status FrameEngine::warpOnGpu(const Camera& cam, const warp::WarpSource& fg,
   HW_TRY(warper_->warpPairOnGpu(fg, bg, cam, step_.options().skipBackground, &ps));
   Stopwatch sc;
   HW_TRY(gpu_->compose(warper_->pairTexture(), havePrevious_));
+  glFinish();
+  st.composeMs = sc.lap();
   gpu_->readMasks(frame_);
-  st.composeMs = sc.ms();
+  st.readbackMs = sc.ms();  // the masks only
   st.backgroundDrawn = ps.backgroundDrawn;
   st.foregroundUncovered = ps.uncoveredByForeground;
   st.quadsForeground = ps.quadsForeground;

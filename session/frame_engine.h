@@ -80,6 +80,8 @@ class FrameEngine {
   // composition, the previous-frame fill and the hole pass's rectangles stay
   // in GL textures, and only the masks are read back (frame().holesBefore,
   // .valid and the counts stay current; frame().colour does not: readFrame).
+  // Its in-between frames' stats: composeMs is the composition pass on the
+  // GPU, readbackMs the masks' readback.
   // Possible with OpenGL's warper, the fused overlay, the copy fallback and
   // no near geometry; false (and unchanged) otherwise. The frames are the
   // same bit for bit; frame ages (gapfill/age.h) are not kept. Forgets the

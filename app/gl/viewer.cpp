@@ -19,6 +19,7 @@
 #include "core/gl/gl_api.h"
 #include "keyframe/geometry_renderer.h"
 #include "session/frame_budget.h"
+#include "warp/cpu_warper.h"
 
 namespace hw::app::viewer_detail {
 namespace {
@@ -73,9 +74,15 @@ Status Viewer::setUp() {
   auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);
   if (!engine) return engine.error();
   engine_ = std::move(*engine);
-  // With OpenGL's warper the frames stay on the GPU: composed, hole-filled and
-  // shown there, never read back to draw the next one.
-  if (opt_.framesOnGpu) engine_->keepFramesOnGpu(true);
+  // With OpenGL's warper on a GPU the frames stay there: composed,
+  // hole-filled and shown there, never read back to draw the next one.
+  {
+    const char* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const bool software = name && warp::isSoftwareRasteriser(name);
+    using FramesOn = ViewerOptions::FramesOn;
+    if (opt_.framesOn == FramesOn::Gpu || (opt_.framesOn == FramesOn::Auto && !software))
+      engine_->keepFramesOnGpu(true);
+  }
   renderer_ = &engine_->renderer();
   lodOptions_ = opt_.lod;
 

@@ -153,7 +153,8 @@ TEST(Viewer, FramesKeptOnTheGpuAreTheFramesComposedOnTheCpu) {
                                   [onGpu](app::ViewerOptions& o) {
                                     o.warper = warp::WarperChoice::Gl;
                                     o.renderHoles = true;
-                                    o.framesOnGpu = onGpu != 0;
+                                    o.framesOn = onGpu ? app::ViewerOptions::FramesOn::Gpu
+                                                       : app::ViewerOptions::FramesOn::Cpu;
                                   });
   for (const Session& s : sessions) {
     ASSERT_EQ(s.exitCode, 0);
