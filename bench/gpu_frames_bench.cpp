@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
   }
   glDeleteTextures(1, &tex);
 
-  const char* names[2] = {"frames composed on the CPU (--frames-on-cpu)",
-                          "frames kept on the GPU (default with --warper gl)"};
+  const char* names[2] = {"composed on the CPU (--frames-on cpu; auto on llvmpipe)",
+                          "kept on the GPU (--frames-on gpu; auto on a GPU)"};
   nlohmann::json out;
   out["scene"] = argv[1];
   out["size"] = size;
