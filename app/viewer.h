@@ -61,6 +61,7 @@ struct ViewerOptions {
   double renderHolesBudget = 0;
   // The hole rectangles drawn from the simplified scene (WalkOptions::simplifyHoles).
   bool simplifyHoles = false;
+  int holeRectsMax = session::WalkOptions{}.holeRectsMax;  // WalkOptions::holeRectsMax
   // What draws the warped layers, and the CPU warper's threads
   // (WalkOptions::warper, warperThreads).
   warp::WarperChoice warper = warp::WarperChoice::Auto;

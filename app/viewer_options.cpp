@@ -15,6 +15,7 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->renderHoles = walk.renderHoles;
   out->renderHolesBudget = walk.renderHolesBudget;
   out->simplifyHoles = walk.simplifyHoles;
+  out->holeRectsMax = walk.holeRectsMax;
   out->warper = walk.warper;
   out->warperThreads = walk.warperThreads;
 }

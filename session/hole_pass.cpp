@@ -1,6 +1,7 @@
 #include "session/hole_pass.h"
 
 #include <cstring>
+#include <limits>
 
 #include "core/timer.h"
 #include "gapfill/age.h"
@@ -18,11 +19,12 @@ void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour, gap
 }
 
 Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
-                     InBetweenStep& step, const std::function<int(int)>& maxRects,
+                     InBetweenStep& step, int maxFound, const std::function<int(int)>& maxRects,
                      HolePassResult* out, gapfill::GpuFrames* gpu) {
   *out = HolePassResult{};
   gapfill::holeRects(frame.holesBefore, WalkOptions::kHoleTilePx,
-                     WalkOptions::kHoleTileMinPixels, WalkOptions::kMaxHoleRects, rects_, scores_);
+                     WalkOptions::kHoleTileMinPixels,
+                     maxFound > 0 ? maxFound : std::numeric_limits<int>::max(), rects_, scores_);
   out->wanted = static_cast<int>(rects_.size());
   if (maxRects && out->wanted > 0) {
     const int keep = maxRects(out->wanted);

@@ -26,7 +26,7 @@ void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour, gap
                    InBetweenStep& step);
 
 struct HolePassResult {
-  int wanted = 0;        // rectangles found (at most WalkOptions::kMaxHoleRects)
+  int wanted = 0;        // rectangles found
   int drawn = 0;         // rectangles drawn
   long long area = 0;    // their pixels
   long long holes = 0;   // hole pixels (frame.holesBefore) among them
@@ -36,13 +36,14 @@ struct HolePassResult {
 
 class HolePass {
  public:
-  // Finds the hole rectangles of frame.holesBefore; `maxRects(wanted)` says
-  // how many of them to draw (null: all). With `gpu` (frames kept on the
+  // Finds the hole rectangles of frame.holesBefore, the `maxFound` with the
+  // most holes (0: all); `maxRects(wanted)` says how many of them to draw
+  // (null: all). With `gpu` (frames kept on the
   // GPU) the rectangles are copied into its current frame there, and only
   // frame.valid is updated on the CPU.
   Status run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
-             InBetweenStep& step, const std::function<int(int)>& maxRects, HolePassResult* out,
-             gapfill::GpuFrames* gpu = nullptr);
+             InBetweenStep& step, int maxFound, const std::function<int(int)>& maxRects,
+             HolePassResult* out, gapfill::GpuFrames* gpu = nullptr);
 
  private:
   std::vector<std::uint32_t> scores_;

@@ -139,10 +139,15 @@ struct WalkOptions {
   // kHoleTilePx holding at least kHoleTileMinPixels pixels no keyframe layer
   // (nor near geometry) covers are re-rendered, scissored and with the
   // scene's clusters culled to the rectangle, in tight rectangles
-  // (gapfill/hole_rects.h): the kMaxHoleRects with the most holes. What is
+  // (gapfill/hole_rects.h), the holeRectsMax with the most holes, most holes
+  // first; in auto mode as many of those as fit renderHolesBudget. What is
   // left (isolated cracks) keeps the fallback's pixels. false = the paper's
   // (every hole from the fallback).
   bool renderHoles = false;
+  // At most this many hole rectangles a frame; 0 = every one found (the
+  // budget alone caps them in auto mode). 12 measured the better default
+  // (docs/results/2026-12-07/hole-rects-uncapped).
+  int holeRectsMax = 12;
   // With FrameMode::Auto, the hole pass's time cap, as a fraction of a
   // geometry frame's time (the mode chooser's median, else this frame's
   // reference render): rectangles are drawn, most holes first, while their
@@ -156,7 +161,6 @@ struct WalkOptions {
   bool simplifyHoles = false;
   static constexpr int kHoleTilePx = 16;
   static constexpr int kHoleTileMinPixels = 8;
-  static constexpr int kMaxHoleRects = 12;
   static constexpr int kRefreshTilePx = 32;
   static constexpr int kMaxRefreshRects = 4;
 };

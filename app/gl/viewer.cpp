@@ -69,6 +69,7 @@ Status Viewer::setUp() {
   session::WalkOptions engineOptions;
   engineOptions.renderHoles = opt_.renderHoles;
   engineOptions.simplifyHoles = opt_.simplifyHoles;
+  engineOptions.holeRectsMax = opt_.holeRectsMax;
   engineOptions.warper = opt_.warper;
   engineOptions.warperThreads = opt_.warperThreads;
   auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);

@@ -193,9 +193,15 @@ WalkRows holeRows() {
           "--render-holes", "--no-render-holes",
           +[](WalkOptions& o) -> bool& { return o.renderHoles; }, kComposition,
           "After the fallback, draw the larger holes with the geometry renderer: the "
-          "16x16-pixel tiles holding at least 8 hole pixels, as up to 12 tight rectangles (the "
-          "most holes first; scissored, the scene's clusters culled to each); isolated cracks "
-          "keep the fallback's pixels"),
+          "16x16-pixel tiles holding at least 8 hole pixels, as tight rectangles (up to "
+          "--hole-rects-max, the most holes first; scissored, the scene's clusters culled to "
+          "each); isolated cracks keep the fallback's pixels"),
+      valueRow<WalkOptions, int>(
+          "--hole-rects-max", +[](WalkOptions& o) -> int& { return o.holeRectsMax; },
+          kComposition, "rectangles",
+          "With --render-holes: at most this many hole rectangles a frame, those with the most "
+          "holes; 0 = every one found (in --mode auto the budget alone caps them)",
+          CLI::Range(0, 1000000)),
       valueRow<WalkOptions, double>(
           "--render-holes-budget", +[](WalkOptions& o) -> double& { return o.renderHolesBudget; },
           kComposition, "fraction of a geometry frame",

@@ -124,6 +124,35 @@ TEST_F(FrameEngineTest, BudgetedHolePassDrawsNoMoreThanTheFullOne) {
   EXPECT_TRUE(std::isnan(budgetMs));
 }
 
+TEST_F(FrameEngineTest, HoleRectsMaxCapsTheRectanglesFound) {
+  // Keyframes far apart on a short path: disocclusions in many places.
+  const hw::test::Indoor in = hw::test::smallIndoor("indoor:20k", 256, 61, 20);
+  const hw::Camera c0 = in.path.cameraAt(0), c10 = in.path.cameraAt(20),
+                   mid = in.path.cameraAt(10);
+  int found[3] = {0, 0, 0};
+  const int caps[3] = {0, 12, 2};
+  for (int k = 0; k < 3; ++k) {
+    hw::session::WalkOptions wo = hw::session::presetOptions(hw::session::Preset::Default);
+    wo.holeRectsMax = caps[k];
+    auto e = FrameEngine::create(in.scene, wo, false);
+    ASSERT_TRUE(e.ok()) << e.error().message;
+    FrameEngine& engine = **e;
+    const Built k0 = build(engine, c0, wo), k10 = build(engine, c10, wo);
+    ASSERT_TRUE(engine.upload(0, k0.kf, k0.mesh, c0.eye, nullptr).ok());
+    ASSERT_TRUE(engine.upload(10, k10.kf, k10.mesh, c10.eye, nullptr).ok());
+    hw::session::InBetweenStats st;
+    ASSERT_TRUE(engine.warp(mid, 0, 10, st, nullptr).ok());
+    hw::session::HolePassResult r;
+    ASSERT_TRUE(engine.renderHoles(mid, nullptr, &r).ok());
+    EXPECT_EQ(r.drawn, r.wanted);
+    found[k] = r.wanted;
+  }
+  // The test needs a frame with more rectangles than the default cap.
+  ASSERT_GT(found[0], 12) << "uncapped: " << found[0];
+  EXPECT_EQ(found[1], 12);
+  EXPECT_EQ(found[2], 2);
+}
+
 TEST_F(FrameEngineTest, FloorLeavesTheFramesAlone) {
   const hw::test::Indoor in = hw::test::smallIndoor("indoor:20k", 96, 11, 10);
   const hw::session::WalkOptions wo = hw::session::presetOptions(hw::session::Preset::Default);
