@@ -21,18 +21,10 @@ using hw::session::FrameEngine;
 
 class FrameEngineTest : public hw::test::GlTest {};
 
-struct Built {
-  hw::keyframe::Keyframe kf;
-  hw::keyframe::QuadMesh mesh;
-};
+using hw::test::Built;
 
 Built build(FrameEngine& e, const hw::Camera& cam, const hw::session::WalkOptions& wo) {
-  Built b;
-  hw::keyframe::RenderStats rs;
-  EXPECT_TRUE(e.renderer().renderKeyframe(cam, b.kf, &rs).ok());
-  hw::keyframe::LodBuilder lod;
-  EXPECT_TRUE(lod.build(b.kf, wo.lod, &b.mesh).ok());
-  return b;
+  return hw::test::buildKeyframe(e.renderer(), cam, wo.lod);
 }
 
 TEST_F(FrameEngineTest, KeyframeWarpedToItsOwnCameraIsTheKeyframe) {

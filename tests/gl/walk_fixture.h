@@ -8,6 +8,8 @@
 #include <string>
 
 #include "core/file_io.h"
+#include "keyframe/geometry_renderer.h"
+#include "keyframe/lod_builder.h"
 #include "scenes/camera_path.h"
 #include "scenes/loader.h"
 #include "scenes/scene.h"
@@ -33,6 +35,20 @@ inline Indoor smallIndoor(const std::string& scene, int size, int frames, int ke
   in.path.frames = frames;
   in.path.keyframeEvery = keyframeEvery;
   return in;
+}
+
+// A keyframe rendered at `cam` and its quad mesh.
+struct Built {
+  keyframe::Keyframe kf;
+  keyframe::QuadMesh mesh;
+};
+inline Built buildKeyframe(keyframe::GeometryRenderer& renderer, const Camera& cam,
+                           const keyframe::LodOptions& lod) {
+  Built b;
+  EXPECT_TRUE(renderer.renderKeyframe(cam, b.kf).ok());
+  keyframe::LodBuilder builder;
+  EXPECT_TRUE(builder.build(b.kf, lod, &b.mesh).ok());
+  return b;
 }
 
 // The file's bytes, or "" when it cannot be read.
