@@ -159,11 +159,15 @@ Status FrameEngine::warpOnGpu(const Camera& cam, const warp::WarpSource& fg,
                              const warp::WarpSource* bg, InBetweenStats& st) {
   st = InBetweenStats{};
   st.fused = true;
+  // A previous frame of another size is none (the CPU path requires the
+  // caller to forget it).
+  const bool previous =
+      havePrevious_ && gpu_->width() == cam.width && gpu_->height() == cam.height;
   HW_TRY(gpu_->resize(cam.width, cam.height));
   warp::PairStats ps;
   HW_TRY(warper_->warpPairOnGpu(fg, bg, cam, step_.options().skipBackground, &ps));
   Stopwatch sc;
-  HW_TRY(gpu_->compose(warper_->pairTexture(), havePrevious_));
+  HW_TRY(gpu_->compose(warper_->pairTexture(), previous));
   glFinish();
   st.composeMs = sc.lap();
   gpu_->readMasks(frame_);
