@@ -62,6 +62,7 @@ struct ViewerOptions {
   // The hole rectangles drawn from the simplified scene (WalkOptions::simplifyHoles).
   bool simplifyHoles = false;
   int holeRectsMax = session::WalkOptions{}.holeRectsMax;  // WalkOptions::holeRectsMax
+  int holeTilePx = session::WalkOptions{}.holeTilePx;      // WalkOptions::holeTilePx
   // What draws the warped layers, and the CPU warper's threads
   // (WalkOptions::warper, warperThreads).
   warp::WarperChoice warper = warp::WarperChoice::Auto;

@@ -16,6 +16,7 @@ void applyWalkOptions(const session::WalkOptions& walk, ViewerOptions* out) {
   out->renderHolesBudget = walk.renderHolesBudget;
   out->simplifyHoles = walk.simplifyHoles;
   out->holeRectsMax = walk.holeRectsMax;
+  out->holeTilePx = walk.holeTilePx;
   out->warper = walk.warper;
   out->warperThreads = walk.warperThreads;
 }

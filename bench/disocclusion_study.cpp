@@ -217,7 +217,8 @@ Result<json> runDisocclusionPath(const scenes::Scene& scene, const std::string& 
     // The default preset's hole rectangles (every one found).
     work = frame;
     session::HolePassResult hr;
-    HW_TRY(holePass.run(renderer, cam, work, step, session::WalkOptions{}.holeRectsMax, {}, &hr));
+    HW_TRY(holePass.run(renderer, cam, work, step, session::holeTiling(session::WalkOptions{}), {},
+                        &hr));
     row["psnr_hole_rects"] = finiteOrNull(score(rects, work.colour, hr.holes, hr.drawMs));
     row["hole_rects_ms"] = hr.drawMs;
 

@@ -70,8 +70,9 @@ int main(int argc, char** argv) {
                1;
       Image<std::uint8_t> mask(img->width(), img->height());
       for (std::size_t p = 0; p < img->size(); ++p) mask.data()[p] = img->data()[p].r > 128;
-      gapfill::holeRects(mask, session::WalkOptions::kHoleTilePx,
-                         session::WalkOptions::kHoleTileMinPixels,
+      const session::WalkOptions defaults;
+      gapfill::holeRects(mask, defaults.holeTilePx,
+                         session::WalkOptions::holeTileMinPixels(defaults.holeTilePx),
                          std::numeric_limits<int>::max(), rects, scratch);
       if (rects.empty()) continue;
       if (outs.size() < rects.size()) outs.resize(rects.size());

@@ -28,7 +28,7 @@ keyframe::KeyframeSchedule pathSchedule(int frames, int keyframeEvery,
 }
 
 FrameEngine::FrameEngine(const WalkOptions& options)
-    : step_(options.inBetween), depthMode_(options.depthMode), holeRectsMax_(options.holeRectsMax) {}
+    : step_(options.inBetween), depthMode_(options.depthMode), holeTiling_(holeTiling(options)) {}
 
 FrameEngine::~FrameEngine() = default;
 
@@ -213,7 +213,7 @@ Status FrameEngine::renderHoles(const Camera& cam, const HoleBudget* budget, Hol
                         budget->geometryMs - budget->frameMsSoFar);
     maxRects = [&](int wanted) { return holeCost_.maxRects(budgetMs, wanted); };
   }
-  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, holeRectsMax_, maxRects, out, gpu_.get()));
+  HW_TRY(holePass_.run(*renderer_, cam, frame_, step_, holeTiling_, maxRects, out, gpu_.get()));
   if (out->drawn > 0) holeCost_.update(out->drawn, out->drawMs);
   if (budgetMsOut) *budgetMsOut = budgetMs;
   return {};

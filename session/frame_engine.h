@@ -164,7 +164,7 @@ class FrameEngine {
   bool cpuWarper_ = false;
   std::map<int, Entry> keyframes_;
   HolePass holePass_;
-  int holeRectsMax_ = 0;  // WalkOptions::holeRectsMax
+  HoleTiling holeTiling_;
   HoleCostModel holeCost_;
   gapfill::Frame frame_, previous_;
   bool havePrevious_ = false;

@@ -18,13 +18,18 @@ void applyRendered(const keyframe::PixelRect& r, const Image<Rgba8>& colour, gap
       step.clearLargeQuad(static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x));
 }
 
+HoleTiling holeTiling(const WalkOptions& options) {
+  return HoleTiling{options.holeTilePx, options.holeRectsMax};
+}
+
 Status HolePass::run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
-                     InBetweenStep& step, int maxFound, const std::function<int(int)>& maxRects,
+                     InBetweenStep& step, const HoleTiling& tiling,
+                     const std::function<int(int)>& maxRects,
                      HolePassResult* out, gapfill::GpuFrames* gpu) {
   *out = HolePassResult{};
-  gapfill::holeRects(frame.holesBefore, WalkOptions::kHoleTilePx,
-                     WalkOptions::kHoleTileMinPixels,
-                     maxFound > 0 ? maxFound : std::numeric_limits<int>::max(), rects_, scores_);
+  gapfill::holeRects(frame.holesBefore, tiling.tilePx, WalkOptions::holeTileMinPixels(tiling.tilePx),
+                     tiling.maxFound > 0 ? tiling.maxFound : std::numeric_limits<int>::max(),
+                     rects_, scores_);
   out->wanted = static_cast<int>(rects_.size());
   if (maxRects && out->wanted > 0) {
     const int keep = maxRects(out->wanted);

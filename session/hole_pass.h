@@ -17,6 +17,7 @@
 #include "gapfill/hole_rects.h"
 #include "keyframe/geometry_renderer.h"
 #include "session/in_between.h"
+#include "session/walk.h"
 
 namespace hw::session {
 
@@ -34,15 +35,23 @@ struct HolePassResult {
   double drawMs = 0;     // the geometry renderer's pass
 };
 
+// Which hole tiles become rectangles (WalkOptions::holeTilePx, holeRectsMax).
+struct HoleTiling {
+  int tilePx = 0;    // tiles of tilePx² pixels holding WalkOptions::holeTileMinPixels holes
+  int maxFound = 0;  // at most this many rectangles, those with the most holes; 0 = all
+};
+HoleTiling holeTiling(const WalkOptions& options);
+
 class HolePass {
  public:
-  // Finds the hole rectangles of frame.holesBefore, the `maxFound` with the
-  // most holes (0: all); `maxRects(wanted)` says how many of them to draw
-  // (null: all). With `gpu` (frames kept on the
+  // Finds the hole rectangles of frame.holesBefore (`tiling`);
+  // `maxRects(wanted)` says how many of them to draw (null: all). With `gpu`
+  // (frames kept on the
   // GPU) the rectangles are copied into its current frame there, and only
   // frame.valid is updated on the CPU.
   Status run(keyframe::GeometryRenderer& renderer, const Camera& cam, gapfill::Frame& frame,
-             InBetweenStep& step, int maxFound, const std::function<int(int)>& maxRects,
+             InBetweenStep& step, const HoleTiling& tiling,
+             const std::function<int(int)>& maxRects,
              HolePassResult* out, gapfill::GpuFrames* gpu = nullptr);
 
  private:

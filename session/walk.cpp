@@ -1222,6 +1222,7 @@ void WalkLoop::summariseLod(json& s) const {
   s["render_holes_budget"] = opt_.renderHoles ? json(opt_.renderHolesBudget) : json(nullptr);
   s["simplify_holes"] = opt_.renderHoles ? json(opt_.simplifyHoles) : json(nullptr);
   s["hole_rects_max"] = opt_.renderHoles ? json(opt_.holeRectsMax) : json(nullptr);
+  s["hole_tile_px"] = opt_.renderHoles ? json(opt_.holeTilePx) : json(nullptr);
   s["holes_rendered"] = seriesStats(r.holesRenderedPixels);
   s["reprojected_pixels"] = seriesStats(r.reprojectedPixels);
   s["fallback_ms"] = seriesStats(r.fallbackMs);

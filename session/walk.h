@@ -4,6 +4,7 @@
 // backward-warped from its two bracketing keyframes and composed with the
 // previous frame (Zheng et al. 1999 §2); each frame measured against the
 // geometry renderer at the same camera. Writes DESIGN.md's walk report.
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -136,8 +137,8 @@ struct WalkOptions {
   // budget (always on with one). Frames are identical.
   bool pixelAge = false;
   // Holes drawn by the geometry renderer: after the fallback, the tiles of
-  // kHoleTilePx holding at least kHoleTileMinPixels pixels no keyframe layer
-  // (nor near geometry) covers are re-rendered, scissored and with the
+  // holeTilePx² pixels at least 1/32 of which no keyframe layer (nor near
+  // geometry) covers are re-rendered, scissored and with the
   // scene's clusters culled to the rectangle, in tight rectangles
   // (gapfill/hole_rects.h), the holeRectsMax with the most holes, most holes
   // first; in auto mode as many of those as fit renderHolesBudget. What is
@@ -148,6 +149,10 @@ struct WalkOptions {
   // budget alone caps them in auto mode). 12 measured the better default
   // (docs/results/2026-12-07/hole-rects-uncapped).
   int holeRectsMax = 12;
+  // The hole tiles' side, pixels (holeTileMinPixels: the holes that make a
+  // tile one to draw).
+  int holeTilePx = 16;
+  static int holeTileMinPixels(int tilePx) { return std::max(1, tilePx * tilePx / 32); }
   // With FrameMode::Auto, the hole pass's time cap, as a fraction of a
   // geometry frame's time (the mode chooser's median, else this frame's
   // reference render): rectangles are drawn, most holes first, while their
@@ -159,8 +164,6 @@ struct WalkOptions {
   // scene (keyframe::RenderOptions::simplifiedRects): the same surfaces in
   // fewer, larger triangles. false = the scene's own triangles.
   bool simplifyHoles = false;
-  static constexpr int kHoleTilePx = 16;
-  static constexpr int kHoleTileMinPixels = 8;
   static constexpr int kRefreshTilePx = 32;
   static constexpr int kMaxRefreshRects = 4;
 };

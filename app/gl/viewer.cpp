@@ -70,6 +70,7 @@ Status Viewer::setUp() {
   engineOptions.renderHoles = opt_.renderHoles;
   engineOptions.simplifyHoles = opt_.simplifyHoles;
   engineOptions.holeRectsMax = opt_.holeRectsMax;
+  engineOptions.holeTilePx = opt_.holeTilePx;
   engineOptions.warper = opt_.warper;
   engineOptions.warperThreads = opt_.warperThreads;
   auto engine = session::FrameEngine::create(scene_, engineOptions, false, false);

@@ -192,10 +192,16 @@ WalkRows holeRows() {
       togglePair<WalkOptions>(
           "--render-holes", "--no-render-holes",
           +[](WalkOptions& o) -> bool& { return o.renderHoles; }, kComposition,
-          "After the fallback, draw the larger holes with the geometry renderer: the "
-          "16x16-pixel tiles holding at least 8 hole pixels, as tight rectangles (up to "
-          "--hole-rects-max, the most holes first; scissored, the scene's clusters culled to "
-          "each); isolated cracks keep the fallback's pixels"),
+          "After the fallback, draw the larger holes with the geometry renderer: the tiles "
+          "(--hole-tile-px) at least 1/32 holes, as tight rectangles (up to --hole-rects-max, "
+          "the most holes first; scissored, the scene's clusters culled to each); isolated "
+          "cracks keep the fallback's pixels"),
+      valueRow<WalkOptions, int>(
+          "--hole-tile-px", +[](WalkOptions& o) -> int& { return o.holeTilePx; }, kComposition,
+          "pixels",
+          "With --render-holes: the side of the tiles the hole rectangles are made of; a tile "
+          "is drawn when at least 1/32 of its pixels are holes",
+          CLI::Range(2, 256)),
       valueRow<WalkOptions, int>(
           "--hole-rects-max", +[](WalkOptions& o) -> int& { return o.holeRectsMax; },
           kComposition, "rectangles",
