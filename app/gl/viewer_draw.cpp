@@ -186,12 +186,12 @@ void Viewer::hudStatsText() {
   if (statsLevel_ >= StatsLevel::Stages) {
     const FrameStats& s = stats_;
     if (s.hybrid) {
-      append("\nwarp fg %.1f ms  bg + readback %.1f ms%s  compose %.1f ms%s\n"
+      append("\nwarp fg %.1f ms  bg + readback %.1f ms%s  compose %.1f ms (%s)%s\n"
              "quads %d + %d (%d layer%s)  holes %.2f%% -> %.2f%% after fill\n"
              "last keyframe: %s %.1f  LOD %.1f  upload %.1f ms, %d quads; %ld built, %ld read%s\n"
              "%s  keyframe every %.2f units / %.0f deg",
              s.warpAMs, s.warpBMs, s.backgroundSkipped ? " (bg skipped)" : "", s.composeMs,
-             s.direct ? "  (keyframe shown as is)" : "", s.quadsA, s.quadsB, s.layers,
+             engine_->framesOnGpu() ? "on the GPU" : "on the CPU", s.direct ? "  (keyframe shown as is)" : "", s.quadsA, s.quadsB, s.layers,
              s.layers == 1 ? "" : "s", 100 * s.holesBefore, 100 * s.holesAfter,
              lastKeyframe_.fromDb       ? "read from the database"
              : lastKeyframe_.fromWorker ? "worker render (wall ms, paced)"
