@@ -158,7 +158,6 @@ Status FrameEngine::warp(const Camera& cam, int a, int b, InBetweenStats& stats,
 Status FrameEngine::warpOnGpu(const Camera& cam, const warp::WarpSource& fg,
                              const warp::WarpSource* bg, InBetweenStats& st) {
   st = InBetweenStats{};
-  st.fused = true;
   // A previous frame of another size is none (the CPU path requires the
   // caller to forget it).
   const bool previous =
@@ -166,20 +165,13 @@ Status FrameEngine::warpOnGpu(const Camera& cam, const warp::WarpSource& fg,
   HW_TRY(gpu_->resize(cam.width, cam.height));
   warp::PairStats ps;
   HW_TRY(warper_->warpPairOnGpu(fg, bg, cam, step_.options().skipBackground, &ps));
+  setPairStats(ps, st);
   Stopwatch sc;
   HW_TRY(gpu_->compose(warper_->pairTexture(), previous));
   glFinish();
   st.composeMs = sc.lap();
   gpu_->readMasks(frame_);
   st.readbackMs = sc.ms();  // the masks only
-  st.backgroundDrawn = ps.backgroundDrawn;
-  st.foregroundUncovered = ps.uncoveredByForeground;
-  st.quadsForeground = ps.quadsForeground;
-  st.quadsBackground = ps.quadsBackground;
-  st.backgroundCulled = ps.backgroundCulled;
-  st.warpAMs = ps.foregroundMs;
-  st.warpBMs = ps.backgroundMs;
-  st.cullMs = ps.cullMs;
   return {};
 }
 

@@ -23,6 +23,19 @@ void markNoHoles(gapfill::Frame& frame) {
 
 }  // namespace
 
+void setPairStats(const warp::PairStats& ps, InBetweenStats& st) {
+  st.fused = true;
+  st.backgroundDrawn = ps.backgroundDrawn;
+  st.foregroundUncovered = ps.uncoveredByForeground;
+  st.quadsForeground = ps.quadsForeground;
+  st.quadsBackground = ps.quadsBackground;
+  st.backgroundCulled = ps.backgroundCulled;
+  st.warpAMs = ps.foregroundMs;
+  st.warpBMs = ps.backgroundMs;
+  st.readbackMs = ps.readbackMs;
+  st.cullMs = ps.cullMs;
+}
+
 void showKeyframe(const Image<Rgba8>& colour, gapfill::Frame& frame) {
   if (&colour == &frame.colour) {  // rendered in place
     if (frame.valid.width() != colour.width() || frame.valid.height() != colour.height()) {
@@ -62,8 +75,7 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
   if (st.fused) {
     warp::PairStats ps;
     HW_TRY(warper.warpPair(foreground, background, cam, layerA_, opt_.skipBackground, &ps));
-    st.backgroundDrawn = ps.backgroundDrawn;
-    st.foregroundUncovered = ps.uncoveredByForeground;
+    setPairStats(ps, st);
     Stopwatch sc;
     if (opt_.reprojects()) {
       gapfill::compose(layerA_, nullptr, nullptr, opt_.compose, frame);
@@ -86,13 +98,6 @@ Status InBetweenStep::draw(warp::Warper& warper, const warp::WarpSource& foregro
       frame.fromBackground = ps.fromBackground;
     }
     st.composeMs = sc.ms();
-    st.quadsForeground = ps.quadsForeground;
-    st.quadsBackground = ps.quadsBackground;
-    st.backgroundCulled = ps.backgroundCulled;
-    st.warpAMs = ps.foregroundMs;
-    st.warpBMs = ps.backgroundMs;
-    st.readbackMs = ps.readbackMs;
-    st.cullMs = ps.cullMs;
   } else {
     warp::WarpStats wa, wb;
     HW_TRY(warper.warp(foreground, cam, layerA_, &wa));

@@ -80,6 +80,10 @@ struct InBetweenStats {
   double warpMs() const { return fused ? warpAMs + warpBMs + readbackMs : warpAMs + warpBMs; }
 };
 
+// A fused pair's draw (Warper::warpPair or warpPairOnGpu) into the frame's
+// stats: what was drawn, skipped and culled, and its times.
+void setPairStats(const warp::PairStats& ps, InBetweenStats& st);
+
 // The near objects of a frame: drawn by `renderer` at the frame's camera, the
 // scene clusters (scenes/clusters.h) within the options' distance D of the
 // frame's own eye or of any of `eyes` (the eyes of the keyframes it warps).

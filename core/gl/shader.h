@@ -7,6 +7,15 @@
 
 namespace hw::gl {
 
+// A vertex shader drawing one triangle that covers the viewport (glDrawArrays
+// of 3 vertices, no attributes), for full-screen passes.
+inline constexpr const char* kFullScreenTriangleVertex = R"(#version 450 core
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
 class Program {
  public:
   Program() = default;

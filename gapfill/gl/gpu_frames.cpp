@@ -10,12 +10,6 @@
 namespace hw::gapfill {
 namespace {
 
-const char* kVertex = R"(#version 450 core
-void main() {
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-})";
-
 // compose() with the fused pair as the foreground layer, per pixel (texel
 // for texel, row 0 = bottom throughout). Byte values pass through UNORM8
 // unchanged (x/255 is written back as x).
@@ -94,7 +88,8 @@ void GpuFrames::release() {
 
 Status GpuFrames::ensureProgram() {
   if (program_.id()) return {};
-  auto p = gl::Program::build("frame composition on the GPU", kVertex, kFragment);
+  auto p = gl::Program::build("frame composition on the GPU", gl::kFullScreenTriangleVertex,
+                              kFragment);
   if (!p) return p.error();
   program_ = std::move(*p);
   program_.use();

@@ -91,13 +91,8 @@ void main() {
 }
 )";
 
-// The coverage query: a full-screen triangle, no outputs (colour writes off).
-constexpr const char* kQueryVertex = R"(#version 450 core
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
+// The coverage query: a full-screen triangle (gl::kFullScreenTriangleVertex),
+// no outputs (colour writes off).
 constexpr const char* kQueryFragment = R"(#version 450 core
 void main() {}
 )";
@@ -222,7 +217,7 @@ class GlWarper final : public Warper {
     uSkyEyeZ_ = program_.uniform("uSkyEyeZ");
     uAlpha_ = program_.uniform("uAlpha");
     uPointScale_ = program_.uniform("uPointScale");
-    auto q = gl::Program::build("coverage query", kQueryVertex, kQueryFragment);
+    auto q = gl::Program::build("coverage query", gl::kFullScreenTriangleVertex, kQueryFragment);
     if (!q) return q.error();
     queryProgram_ = std::move(*q);
     glGenVertexArrays(1, &emptyVao_);
